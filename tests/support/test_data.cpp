@@ -1,0 +1,34 @@
+#include "test_data.hpp"
+
+#include <mpi.h>
+
+namespace texsim::test {
+
+std::filesystem::path source_dir() { return TEXSIM_SOURCE_DIR; }
+
+std::filesystem::path texsim_binary() { return TEXSIM_BINARY_PATH; }
+
+std::filesystem::path real_data(const std::string& relative) {
+  const auto path = source_dir() / "data" / relative;
+  return std::filesystem::exists(path) ? path : std::filesystem::path();
+}
+
+std::string missing_data_message(const std::string& relative) {
+  return "data/" + relative + " is absent: run scripts/fetch-data to test on real data";
+}
+
+std::filesystem::path scratch_dir(const std::string& name) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("texsim_test_" + name + "_n" + std::to_string(size));
+  if (rank == 0) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return dir;
+}
+
+} // namespace texsim::test

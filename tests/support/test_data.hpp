@@ -1,0 +1,23 @@
+#pragma once
+/// Paths the tests share: the source tree, the built binary, real data under data/, and per-test
+/// scratch directories.
+#include <filesystem>
+#include <string>
+
+namespace texsim::test {
+
+/// The repository root (where config/ and data/ live).
+std::filesystem::path source_dir();
+
+/// The texsim executable built alongside the tests.
+std::filesystem::path texsim_binary();
+
+/// data/<relative> if scripts/fetch-data has put it there, otherwise an empty path; tests call
+/// GTEST_SKIP() with the message from missing_data_message() when it is empty.
+std::filesystem::path real_data(const std::string& relative);
+std::string missing_data_message(const std::string& relative);
+
+/// A fresh empty directory for this test, the same path on every rank. Collective.
+std::filesystem::path scratch_dir(const std::string& name);
+
+} // namespace texsim::test
