@@ -13,6 +13,14 @@ namespace texsim {
 class Error : public std::runtime_error {
 public:
   using std::runtime_error::runtime_error;
+
+  /// True when every rank holds this same error (thrown by par::run_collectively), so main() can
+  /// exit normally; otherwise main() must abort the job to keep the other ranks from hanging.
+  bool on_all_ranks() const { return on_all_ranks_; }
+  void mark_on_all_ranks() { on_all_ranks_ = true; }
+
+private:
+  bool on_all_ranks_ = false;
 };
 
 /// The user's input is wrong: the message names the config key path or the file, what was found and

@@ -33,9 +33,14 @@ void run_collectively(const Comm& comm, const std::function<void()>& work) {
   MPI_Bcast(&length, 1, MPI_INT, speaker, comm.raw);
   message.resize(length);
   MPI_Bcast(message.data(), length, MPI_CHAR, speaker, comm.raw);
-  if (worst == kInput)
-    throw InputError(message);
-  throw Error(message);
+  if (worst == kInput) {
+    InputError error(message);
+    error.mark_on_all_ranks();
+    throw error;
+  }
+  Error error(message);
+  error.mark_on_all_ranks();
+  throw error;
 }
 
 } // namespace texsim::par

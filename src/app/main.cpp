@@ -1,0 +1,190 @@
+// texsim: one binary for every pipeline. MPI and PETSc are initialised once here; the config is
+// read and validated on rank 0, broadcast, and every rank builds the same typed settings from it.
+#include "app/command_line.hpp"
+#include "app/pipeline_registry.hpp"
+#include "app/run_settings.hpp"
+#include "app/summary_writer.hpp"
+#include "core/log.hpp"
+#include "core/stage_timers.hpp"
+#include "par/collective.hpp"
+#include "par/petsc_session.hpp"
+#include "texsim/version.hpp"
+
+#include <H5public.h>
+#include <omp.h>
+
+#include <cstring>
+#include <iostream>
+
+namespace texsim::app {
+namespace {
+
+void print_version() {
+  unsigned major = 0, minor = 0, release = 0;
+  H5get_libversion(&major, &minor, &release);
+  std::cout << "texsim " << build_info::kVersion << " (git " << build_info::kGitHash << ")\n"
+            << "  PETSc " << build_info::kPetscVersion << ", HDF5 " << major << "." << minor
+            << "." << release << ", VTK " << build_info::kVtkVersion << ", OpenVDB "
+            << build_info::kOpenVdbVersion << "\n"
+            << "  pipelines: " << registered_pipeline_list() << "\n";
+}
+
+/// The config after --set overrides, validated on rank 0 and broadcast as YAML text.
+std::string read_config_on_root(const par::Comm& comm, const CommandLine& line) {
+  std::string text;
+  par::run_collectively(comm, [&] {
+    if (!comm.is_root())
+      return;
+    auto document = ConfigDocument::load(line.config_path);
+    for (const auto& assignment : line.overrides)
+      document.set_override(assignment);
+    text = document.emit();
+  });
+  int length = static_cast<int>(text.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm.raw);
+  text.resize(length);
+  MPI_Bcast(text.data(), length, MPI_CHAR, 0, comm.raw);
+  return text;
+}
+
+struct ConfiguredRun {
+  CommonConfig common;
+  std::unique_ptr<pipelines::Pipeline> pipeline;
+};
+
+/// Builds the typed settings from the broadcast text on every rank; unknown keys are errors.
+ConfiguredRun configure(const par::Comm& comm, const std::string& text, const CommandLine& line) {
+  ConfiguredRun run;
+  par::run_collectively(comm, [&] {
+    auto document = ConfigDocument::parse(text, line.config_path);
+    auto root = document.root();
+    run.common = read_common_config(root);
+    run.common.run.config_hash = document.result_hash();
+    run.common.run.restart = line.restart;
+    run.pipeline = make_pipeline(run.common.pipeline);
+    run.pipeline->configure(root.section(run.common.pipeline));
+    document.check_unknown_keys();
+  });
+  return run;
+}
+
+/// PETSc options from the config's `petsc:` map; the command line, already inserted, wins.
+void insert_petsc_options(const std::map<std::string, std::string>& options) {
+  for (const auto& [name, value] : options) {
+    const std::string option = "-" + name;
+    PetscBool already = PETSC_FALSE;
+    TEXSIM_PETSC_CALL(PetscOptionsHasName(nullptr, nullptr, option.c_str(), &already));
+    if (!already)
+      TEXSIM_PETSC_CALL(
+          PetscOptionsSetValue(nullptr, option.c_str(), value.empty() ? nullptr : value.c_str()));
+  }
+}
+
+/// Creates output.dir; refuses a directory that holds another run unless overwriting or restarting.
+void prepare_output_dir(const par::Comm& comm, const CommonConfig& common) {
+  par::run_collectively(comm, [&] {
+    if (!comm.is_root())
+      return;
+    const auto& dir = common.run.output_dir;
+    const bool holds_run = std::filesystem::exists(dir / "summary.json") ||
+                           std::filesystem::exists(dir / "checkpoints");
+    if (holds_run && !common.run.restart && !common.overwrite_output)
+      throw InputError("output.dir: '" + dir.string() +
+                       "' already holds a run (summary.json or checkpoints/); choose another "
+                       "directory, continue it with --restart, or set output.overwrite: true");
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error)
+      throw InputError("output.dir: cannot create '" + dir.string() + "': " + error.message());
+  });
+}
+
+int execute(const par::Comm& comm, const CommandLine& line) {
+  const double start_s = wall_seconds();
+  const std::string text = read_config_on_root(comm, line);
+  ConfiguredRun run = configure(comm, text, line);
+  if (line.command == Command::kValidate) {
+    log::info(log::cat(line.config_path, ": valid ", run.common.pipeline,
+                       " config (config hash ", run.common.run.config_hash, ")\n---\n", text));
+    return 0;
+  }
+  insert_petsc_options(run.common.petsc);
+  prepare_output_dir(comm, run.common);
+
+  log::info(log::cat("texsim ", build_info::kVersion, ": pipeline ", run.common.pipeline, " on ",
+                     comm.size, " ranks x ", omp_get_max_threads(), " threads, output in ",
+                     run.common.run.output_dir.string()));
+  StageTimers timers;
+  RunReport report;
+  pipelines::RunContext context{comm, run.common.run, timers, report};
+  run.pipeline->run(context);
+
+  if (comm.is_root()) {
+    SummaryHeader header{run.common.pipeline, comm.size, omp_get_max_threads(),
+                         wall_seconds() - start_s, run.common.run.config_hash,
+                         run.common.run.restart.has_value()};
+    write_summary(run.common.run.output_dir, header, timers, report);
+  }
+  log::info(log::cat("done in ", wall_seconds() - start_s, " s; summary: ",
+                     (run.common.run.output_dir / "summary.json").string()));
+  for (const auto& output : report.outputs())
+    if (std::filesystem::path(output).extension() == ".pvd")
+      log::info("open in ParaView: paraview " + output);
+  return 0;
+}
+
+} // namespace
+} // namespace texsim::app
+
+int main(int argc, char** argv) {
+  using namespace texsim;
+  app::CommandLine line;
+  std::string usage_error;
+  try {
+    line = app::parse_command_line(argc, argv);
+  } catch (const InputError& e) {
+    usage_error = e.what();
+  }
+  // PETSc sees only the PETSc options, never texsim's own.
+  std::vector<char*> petsc_argv;
+  for (auto& arg : line.petsc_args)
+    petsc_argv.push_back(arg.data());
+  if (petsc_argv.empty())
+    petsc_argv.push_back(argv[0]);
+  int petsc_argc = static_cast<int>(petsc_argv.size());
+  petsc_argv.push_back(nullptr);
+  char** petsc_argv_data = petsc_argv.data();
+
+  int exit_code = 0;
+  {
+    par::PetscSession session(petsc_argc, petsc_argv_data);
+    const par::Comm comm = par::world();
+    log::init(comm.rank, line.quiet);
+    try {
+      if (!usage_error.empty())
+        throw InputError(usage_error);
+      if (line.command == app::Command::kHelp) {
+        if (comm.is_root())
+          std::cout << app::usage_text();
+      } else if (line.command == app::Command::kVersion) {
+        if (comm.is_root())
+          app::print_version();
+      } else {
+        exit_code = app::execute(comm, line);
+      }
+    } catch (const Error& e) {
+      exit_code = dynamic_cast<const InputError*>(&e) ? 2 : 1;
+      if (!e.on_all_ranks()) {
+        // Only this rank failed: the others may be waiting in a collective call.
+        std::cerr << "texsim: error on rank " << comm.rank << ": " << e.what() << std::endl;
+        MPI_Abort(comm.raw, exit_code);
+      }
+      if (comm.is_root())
+        std::cerr << "texsim: error: " << e.what() << std::endl;
+    } catch (const std::exception& e) {
+      std::cerr << "texsim: internal error on rank " << comm.rank << ": " << e.what() << std::endl;
+      MPI_Abort(comm.raw, 1);
+    }
+  }
+  return exit_code;
+}

@@ -1,0 +1,27 @@
+#include "app/run_settings.hpp"
+
+#include "app/pipeline_registry.hpp"
+
+namespace texsim::app {
+
+CommonConfig read_common_config(const ConfigSection& root) {
+  CommonConfig config;
+  config.pipeline = root.require<std::string>("pipeline", [](const std::string& name) {
+    return is_registered_pipeline(name) ? "" : "one of " + registered_pipeline_list();
+  });
+  config.run.seed = root.get<std::uint64_t>("seed", 1);
+
+  const auto output = root.section("output");
+  config.run.output_dir = output.get<std::string>("dir", "out/" + config.pipeline);
+  config.run.output_every = output.get<int>("every", 10, positive_int());
+  config.overwrite_output = output.get<bool>("overwrite", false);
+
+  const auto checkpoint = root.section("checkpoint");
+  config.run.checkpoint_every = checkpoint.get<int>("every", 0, non_negative_int());
+  config.run.checkpoint_keep = checkpoint.get<int>("keep", 3, positive_int());
+
+  config.petsc = root.string_map("petsc");
+  return config;
+}
+
+} // namespace texsim::app

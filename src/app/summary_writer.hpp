@@ -1,0 +1,24 @@
+#pragma once
+/// summary.json: what a run did, how long each stage took, its metrics and output files.
+#include "core/run_report.hpp"
+#include "core/stage_timers.hpp"
+
+#include <filesystem>
+#include <string>
+
+namespace texsim::app {
+
+struct SummaryHeader {
+  std::string pipeline;
+  int ranks = 1;
+  int threads = 1;
+  double wall_s = 0;
+  std::string config_hash;
+  bool restarted = false;
+};
+
+/// Writes <output_dir>/summary.json (temporary name, then rename). Rank 0 only.
+void write_summary(const std::filesystem::path& output_dir, const SummaryHeader& header,
+                   const StageTimers& timers, const RunReport& report);
+
+} // namespace texsim::app

@@ -1,0 +1,306 @@
+#include "core/config.hpp"
+
+#include "core/hash.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+
+namespace texsim {
+
+Constraint<double> positive() {
+  return [](const double& v) { return v > 0 ? "" : std::string("a positive number"); };
+}
+Constraint<double> non_negative() {
+  return [](const double& v) { return v >= 0 ? "" : std::string("a number >= 0"); };
+}
+Constraint<double> in_range(double lo, double hi) {
+  return [lo, hi](const double& v) {
+    std::ostringstream out;
+    if (!(v >= lo && v <= hi))
+      out << "a number in [" << lo << ", " << hi << "]";
+    return out.str();
+  };
+}
+Constraint<int> positive_int() {
+  return [](const int& v) { return v > 0 ? "" : std::string("a positive integer"); };
+}
+Constraint<int> non_negative_int() {
+  return [](const int& v) { return v >= 0 ? "" : std::string("an integer >= 0"); };
+}
+Constraint<int> int_in_range(int lo, int hi) {
+  return [lo, hi](const int& v) {
+    return v >= lo && v <= hi
+               ? std::string()
+               : "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  };
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+namespace detail {
+namespace {
+template <class T> std::optional<T> decode(const YAML::Node& node) {
+  T value{};
+  if (!node.IsScalar() || !YAML::convert<T>::decode(node, value))
+    return std::nullopt;
+  return value;
+}
+} // namespace
+
+template <> std::optional<double> convert<double>(const YAML::Node& node) {
+  return decode<double>(node);
+}
+template <> std::optional<int> convert<int>(const YAML::Node& node) { return decode<int>(node); }
+template <> std::optional<std::int64_t> convert<std::int64_t>(const YAML::Node& node) {
+  return decode<std::int64_t>(node);
+}
+template <> std::optional<std::uint64_t> convert<std::uint64_t>(const YAML::Node& node) {
+  if (node.IsScalar() && !node.Scalar().empty() && node.Scalar()[0] == '-')
+    return std::nullopt;
+  return decode<std::uint64_t>(node);
+}
+template <> std::optional<bool> convert<bool>(const YAML::Node& node) {
+  return decode<bool>(node);
+}
+template <> std::optional<std::string> convert<std::string>(const YAML::Node& node) {
+  if (!node.IsScalar())
+    return std::nullopt;
+  return node.Scalar();
+}
+template <> std::optional<std::vector<double>> convert<std::vector<double>>(const YAML::Node& node) {
+  if (!node.IsSequence())
+    return std::nullopt;
+  std::vector<double> values;
+  for (const auto& item : node) {
+    const auto value = decode<double>(item);
+    if (!value)
+      return std::nullopt;
+    values.push_back(*value);
+  }
+  return values;
+}
+template <>
+std::optional<std::array<double, 3>> convert<std::array<double, 3>>(const YAML::Node& node) {
+  const auto values = convert<std::vector<double>>(node);
+  if (!values || values->size() != 3)
+    return std::nullopt;
+  return std::array<double, 3>{(*values)[0], (*values)[1], (*values)[2]};
+}
+
+template <> std::string type_name<double>() { return "a number"; }
+template <> std::string type_name<int>() { return "an integer"; }
+template <> std::string type_name<std::int64_t>() { return "an integer"; }
+template <> std::string type_name<std::uint64_t>() { return "a non-negative integer"; }
+template <> std::string type_name<bool>() { return "true or false"; }
+template <> std::string type_name<std::string>() { return "a string"; }
+template <> std::string type_name<std::vector<double>>() { return "a list of numbers"; }
+template <> std::string type_name<std::array<double, 3>>() { return "a list of 3 numbers"; }
+} // namespace detail
+
+ConfigSection::ConfigSection(ConfigDocument* document, YAML::Node node, std::string path)
+    : document_(document), node_(std::move(node)), path_(std::move(path)) {}
+
+std::string ConfigSection::key_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+YAML::Node ConfigSection::lookup(const std::string& key) const {
+  if (!node_ || !node_.IsMap())
+    return YAML::Node();
+  const YAML::Node& map = node_;
+  return map[key];
+}
+
+bool ConfigSection::has(const std::string& key) const {
+  document_->remember(key_path(key));
+  const YAML::Node node = lookup(key);
+  return node && !node.IsNull();
+}
+
+std::string ConfigSection::shown_value(const std::string& key) const {
+  const YAML::Node node = lookup(key);
+  if (!node || node.IsNull())
+    return "nothing";
+  if (node.IsScalar())
+    return node.Scalar().empty() ? "an empty string" : node.Scalar();
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+void ConfigSection::fail(const std::string& key, const std::string& expected) const {
+  throw InputError(key_path(key) + ": expected " + expected + ", got " + shown_value(key));
+}
+
+ConfigSection ConfigSection::section(const std::string& key) const {
+  document_->remember(key_path(key));
+  const YAML::Node node = lookup(key);
+  if (node && !node.IsNull() && !node.IsMap())
+    fail(key, "a mapping of keys");
+  return ConfigSection(document_, node && node.IsMap() ? node : YAML::Node(), key_path(key));
+}
+
+std::map<std::string, std::string> ConfigSection::string_map(const std::string& key) const {
+  document_->remember(key_path(key));
+  document_->remember_free_form(key_path(key));
+  std::map<std::string, std::string> values;
+  const YAML::Node node = lookup(key);
+  if (!node || node.IsNull())
+    return values;
+  if (!node.IsMap())
+    fail(key, "a mapping of names to values");
+  for (const auto& item : node) {
+    const std::string name = item.first.as<std::string>();
+    if (!item.second.IsScalar() && !item.second.IsNull())
+      throw InputError(key_path(key) + "." + name + ": expected a single value, got a " +
+                       (item.second.IsMap() ? "mapping" : "list"));
+    values[name] = item.second.IsNull() ? "" : item.second.Scalar();
+  }
+  return values;
+}
+
+ConfigDocument::ConfigDocument(YAML::Node root, std::string source)
+    : root_(std::move(root)), source_(std::move(source)),
+      known_(std::make_shared<std::set<std::string>>()),
+      free_form_(std::make_shared<std::set<std::string>>()) {}
+
+ConfigDocument ConfigDocument::parse(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": not valid YAML: " + e.what());
+  }
+  if (root.IsNull())
+    root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap())
+    throw InputError(source + ": expected a mapping of keys at the top level");
+  return ConfigDocument(root, source);
+}
+
+ConfigDocument ConfigDocument::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in)
+    throw InputError(path + ": cannot open config file (missing or unreadable)");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), path);
+}
+
+void ConfigDocument::set_override(const std::string& assignment) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0)
+    throw InputError("--set " + assignment + ": expected key.path=value");
+  const std::string path = assignment.substr(0, equals);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(equals + 1));
+  } catch (const YAML::Exception& e) {
+    throw InputError("--set " + assignment + ": the value is not valid YAML: " + e.what());
+  }
+  std::vector<std::string> keys;
+  std::stringstream parts(path);
+  for (std::string key; std::getline(parts, key, '.');) {
+    if (key.empty())
+      throw InputError("--set " + assignment + ": empty component in key path '" + path + "'");
+    keys.push_back(key);
+  }
+  YAML::Node node;
+  node.reset(root_);
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    if (!node[keys[i]].IsMap())
+      node[keys[i]] = YAML::Node(YAML::NodeType::Map);
+    YAML::Node child = node[keys[i]];
+    node.reset(child);
+  }
+  node[keys.back()] = value;
+}
+
+ConfigSection ConfigDocument::root() { return ConfigSection(this, root_, ""); }
+
+namespace {
+// Walks the tree; returns the first key path nobody asked for.
+std::optional<std::string> first_unknown(const YAML::Node& node, const std::string& prefix,
+                                         const std::set<std::string>& known,
+                                         const std::set<std::string>& free_form) {
+  for (const auto& item : node) {
+    const std::string path = (prefix.empty() ? "" : prefix + ".") + item.first.as<std::string>();
+    if (free_form.count(path))
+      continue;
+    if (!known.count(path))
+      return path;
+    if (item.second.IsMap())
+      if (auto unknown = first_unknown(item.second, path, known, free_form))
+        return unknown;
+  }
+  return std::nullopt;
+}
+} // namespace
+
+void ConfigDocument::check_unknown_keys() const {
+  const auto unknown = first_unknown(root_, "", *known_, *free_form_);
+  if (!unknown)
+    return;
+  const auto dot = unknown->rfind('.');
+  const std::string parent = dot == std::string::npos ? "" : unknown->substr(0, dot + 1);
+  const std::string leaf = dot == std::string::npos ? *unknown : unknown->substr(dot + 1);
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, leaf.size() / 3) + 1;
+  std::vector<std::string> siblings;
+  for (const auto& known : *known_) {
+    if (known.compare(0, parent.size(), parent) != 0)
+      continue;
+    const std::string rest = known.substr(parent.size());
+    if (rest.find('.') != std::string::npos)
+      continue;
+    siblings.push_back(rest);
+    const std::size_t distance = edit_distance(leaf, rest);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = known;
+    }
+  }
+  std::string message = source_ + ": unknown key '" + *unknown + "'";
+  if (!best.empty())
+    message += " (did you mean '" + best + "'?)";
+  else if (!siblings.empty()) {
+    message += "; known keys here: ";
+    for (std::size_t i = 0; i < siblings.size(); ++i)
+      message += (i ? ", " : "") + siblings[i];
+  }
+  throw InputError(message);
+}
+
+std::string ConfigDocument::emit() const {
+  YAML::Emitter out;
+  out << root_;
+  return out.c_str();
+}
+
+std::string ConfigDocument::result_hash() const {
+  YAML::Node copy = YAML::Clone(root_);
+  copy.remove("output");
+  copy.remove("checkpoint");
+  YAML::Emitter out;
+  out << copy;
+  return hex64(fnv1a64(out.c_str()));
+}
+
+} // namespace texsim

@@ -1,0 +1,28 @@
+#include "core/log.hpp"
+
+#include <iostream>
+
+namespace texsim::log {
+namespace {
+int g_rank = 0;
+bool g_quiet = false;
+} // namespace
+
+void init(int rank, bool quiet) {
+  g_rank = rank;
+  g_quiet = quiet;
+}
+
+bool info_enabled() { return g_rank == 0 && !g_quiet; }
+
+void info(const std::string& line) {
+  if (info_enabled())
+    std::cout << line << std::endl;
+}
+
+void warn(const std::string& line) {
+  if (g_rank == 0)
+    std::cerr << "warning: " << line << std::endl;
+}
+
+} // namespace texsim::log

@@ -1,0 +1,42 @@
+#pragma once
+/// Per-stage wall-clock timers for the run summary: { auto s = timers.scope("assembly"); ... }.
+/// A stage entered several times accumulates. Local to the calling rank (no communication).
+#include <string>
+#include <vector>
+
+namespace texsim {
+
+struct StageTime {
+  std::string name;
+  double wall_s = 0;
+  int calls = 0;
+};
+
+class StageTimers {
+public:
+  class Scope {
+  public:
+    Scope(StageTimers& owner, std::size_t index);
+    ~Scope();
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+  private:
+    StageTimers& owner_;
+    std::size_t index_;
+    double start_s_;
+  };
+
+  /// Times the enclosing block as stage `name` (in first-use order in the summary).
+  [[nodiscard]] Scope scope(const std::string& name);
+
+  const std::vector<StageTime>& stages() const { return stages_; }
+
+private:
+  std::vector<StageTime> stages_;
+};
+
+/// Seconds on a monotonic clock.
+double wall_seconds();
+
+} // namespace texsim

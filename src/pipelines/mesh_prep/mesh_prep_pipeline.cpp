@@ -1,0 +1,152 @@
+#include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
+
+#include "core/log.hpp"
+#include "geom/generators.hpp"
+#include "geom/loop_subdivision.hpp"
+#include "geom/mesh_measures.hpp"
+#include "geom/mesh_reader.hpp"
+#include "geom/mesh_topology.hpp"
+#include "geom/p1_matrices.hpp"
+#include "geom/submesh.hpp"
+#include "io/parallel_surface_writer.hpp"
+#include "io/pvd_series.hpp"
+#include "par/collective.hpp"
+#include "par/morton_partition.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+
+namespace texsim::pipelines::mesh_prep {
+namespace {
+
+geom::TriangleMesh load(const MeshPrepSettings& settings, RunContext& ctx) {
+  switch (settings.source) {
+  case Source::kFile: {
+    geom::RepairReport repairs;
+    auto mesh = geom::read_mesh(settings.file, geom::MeshRepairOptions{}, &repairs);
+    ctx.report.metric("repairs", repairs.changed() ? repairs.summary() : "none");
+    log::info(log::cat("read ", settings.file.string(), ": ", mesh.num_vertices(), " vertices, ",
+                       mesh.num_triangles(), " triangles; repairs: ",
+                       repairs.changed() ? repairs.summary() : "none"));
+    return mesh;
+  }
+  case Source::kIcosphere:
+    return geom::icosphere(settings.icosphere_level, settings.radius);
+  case Source::kTorus:
+    return geom::torus(settings.major_radius, settings.minor_radius, settings.torus_segments[0],
+                       settings.torus_segments[1]);
+  case Source::kBox:
+    return geom::box(settings.box_size, settings.box_cells_per_edge);
+  }
+  TEXSIM_VERIFY(false, "unhandled mesh source");
+}
+
+void record_measures(const geom::TriangleMesh& mesh, RunContext& ctx) {
+  const geom::MeshTopology topology(mesh);
+  const auto chi = topology.euler_characteristic();
+  geom::Vec3 lo = mesh.positions.front(), hi = lo;
+  for (const auto& p : mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  auto& report = ctx.report;
+  report.metric("vertices", mesh.num_vertices());
+  report.metric("triangles", mesh.num_triangles());
+  report.metric("edges", topology.num_edges());
+  report.metric("boundary_edges", topology.boundary_edges().size());
+  report.metric("euler_characteristic", chi);
+  report.metric("manifold", topology.is_manifold());
+  if (topology.is_closed() && topology.is_manifold())
+    report.metric("genus", (2 - chi) / 2);
+  report.metric("surface_area", geom::total_area(mesh));
+  report.metric("mean_edge_length", geom::mean_edge_length(mesh));
+  report.metric("bounding_box", {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}});
+  log::info(log::cat("mesh: ", mesh.num_vertices(), " vertices, ", mesh.num_triangles(),
+                     " triangles, area ", geom::total_area(mesh), ", Euler characteristic ", chi,
+                     topology.is_closed() ? ", closed" : ", with boundary"));
+}
+
+/// Each rank writes the triangles of its part with per-vertex normals and areas.
+std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunContext& ctx) {
+  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const geom::Vec3 c =
+        (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+    centroids[t] = {c.x(), c.y(), c.z()};
+  }
+  const auto part = par::morton_partition(centroids, ctx.comm.size);
+  const auto piece = geom::extract_part(mesh, part, ctx.comm.rank);
+
+  const auto normals = geom::vertex_normals(mesh);
+  const Eigen::VectorXd vertex_area = geom::lumped_mass(mesh);
+  const auto triangle_area = geom::triangle_areas(mesh);
+  const std::size_t n = piece.global_vertex.size();
+  std::vector<double> xyz(3 * n), normal(3 * n), area(n), global_id(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto g = piece.global_vertex[v];
+    for (int axis = 0; axis < 3; ++axis) {
+      xyz[3 * v + axis] = mesh.positions[g][axis];
+      normal[3 * v + axis] = normals[g][axis];
+    }
+    area[v] = vertex_area[g];
+    global_id[v] = g;
+  }
+  std::vector<std::int64_t> triangles;
+  for (const auto& tri : piece.mesh.triangles)
+    triangles.insert(triangles.end(), tri.begin(), tri.end());
+  std::vector<double> owner(piece.global_triangle.size(), ctx.comm.rank), cell_area;
+  for (const auto t : piece.global_triangle)
+    cell_area.push_back(triangle_area[t]);
+
+  io::SurfacePiece surface{xyz, triangles,
+                           {{"normal", 3, normal}, {"vertex_area", 1, area},
+                            {"global_id", 1, global_id}},
+                           {{"rank", 1, owner}, {"area", 1, cell_area}}};
+
+  long long local = static_cast<long long>(piece.global_triangle.size()), most = 0;
+  MPI_Allreduce(&local, &most, 1, MPI_LONG_LONG, MPI_MAX, ctx.comm.raw);
+  ctx.report.metric("partition_imbalance",
+                    double(most) * ctx.comm.size / std::max<std::size_t>(1, mesh.triangles.size()));
+  return io::write_parallel_surface(ctx.comm, ctx.settings.output_dir, "surface", surface,
+                                    io::SurfaceFormat::vtp);
+}
+
+} // namespace
+
+void MeshPrepPipeline::configure(const ConfigSection& section) {
+  settings_ = read_mesh_prep_settings(section);
+}
+
+void MeshPrepPipeline::run(RunContext& ctx) {
+  geom::TriangleMesh mesh;
+  {
+    auto stage = ctx.timers.scope("load");
+    par::run_collectively(ctx.comm, [&] { mesh = load(settings_, ctx); });
+  }
+  if (settings_.subdivision_levels > 0) {
+    auto stage = ctx.timers.scope("refine");
+    mesh = geom::loop_subdivide(mesh, settings_.subdivision_levels);
+    log::info(log::cat("Loop subdivision x", settings_.subdivision_levels, ": ",
+                       mesh.num_vertices(), " vertices"));
+  }
+  if (settings_.noise_amplitude > 0) {
+    auto stage = ctx.timers.scope("perturb");
+    mesh = geom::noisy(mesh, settings_.noise_amplitude * geom::mean_edge_length(mesh),
+                       ctx.settings.seed);
+  }
+  {
+    auto stage = ctx.timers.scope("measure");
+    record_measures(mesh, ctx);
+  }
+  auto stage = ctx.timers.scope("write");
+  const auto surface = write_partitioned(mesh, ctx);
+  const auto pvd_path = ctx.settings.output_dir / "surface.pvd";
+  io::PvdSeries series(ctx.comm, pvd_path);
+  series.add(0.0, std::filesystem::relative(surface, ctx.settings.output_dir).string());
+  ctx.report.output(surface.string());
+  ctx.report.output(pvd_path.string());
+}
+
+} // namespace texsim::pipelines::mesh_prep

@@ -1,0 +1,50 @@
+#pragma once
+/// The interface every pipeline implements, and the settings all of them share.
+///
+/// Life cycle (driven by app/): configure() on every rank with the same broadcast config, then
+/// run() on every rank. configure() only reads and validates (no files written, no heavy work), so
+/// `texsim validate` calls it alone.
+#include "core/config.hpp"
+#include "core/run_report.hpp"
+#include "core/stage_timers.hpp"
+#include "par/comm.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace texsim::pipelines {
+
+/// Keys every config has besides the pipeline's own section (read by app/run_settings.cpp).
+struct RunSettings {
+  std::filesystem::path output_dir; ///< output.dir: everything the run writes goes here
+  int output_every = 1;             ///< output.every: steps between ParaView frames
+  int checkpoint_every = 0;         ///< checkpoint.every: steps between checkpoints (0 = never)
+  int checkpoint_keep = 3;          ///< checkpoint.keep: how many recent checkpoints to keep
+  std::uint64_t seed = 1;           ///< seed: key of every counter-based random stream
+  std::optional<std::string> restart; ///< --restart: "latest" or a checkpoint path
+  std::string config_hash;          ///< ConfigDocument::result_hash(), stored in checkpoints
+};
+
+/// What run() gets: communicator, settings, and where to record timings, metrics and outputs.
+struct RunContext {
+  par::Comm comm;
+  const RunSettings& settings;
+  StageTimers& timers;
+  RunReport& report;
+};
+
+class Pipeline {
+public:
+  virtual ~Pipeline() = default;
+
+  /// Reads and validates the pipeline's own section (the YAML key named after the pipeline).
+  /// Throws InputError naming the key path. Called on every rank; not collective.
+  virtual void configure(const ConfigSection& section) = 0;
+
+  /// Does the work. Collective over ctx.comm.
+  virtual void run(RunContext& ctx) = 0;
+};
+
+} // namespace texsim::pipelines

@@ -1,0 +1,194 @@
+// Runs the texsim binary as a user would and checks exit codes, messages and outputs.
+#include "app/command_line.hpp"
+#include "core/error.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output; // stdout and stderr together
+};
+
+// Runs a shell command line; the environment is cleared of MPI launcher variables so texsim
+// starts as a fresh job.
+Outcome run(const std::string& command) {
+  const std::string full = "env -u OMPI_COMM_WORLD_SIZE -u PMIX_RANK OMP_NUM_THREADS=1 " +
+                           command + " 2>&1";
+  Outcome outcome;
+  FILE* pipe = popen(full.c_str(), "r");
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe))
+    outcome.output += buffer.data();
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string texsim() { return TEXSIM_BINARY_PATH; }
+std::string mpirun(int ranks) {
+  return std::string(TEXSIM_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " +
+         std::to_string(ranks) + " " + texsim();
+}
+fs::path source(const std::string& relative) { return fs::path(TEXSIM_SOURCE_DIR) / relative; }
+
+fs::path scratch(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / ("texsim_cli_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Cli, HelpAndVersion) {
+  const auto help = run(texsim() + " --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("usage:"), std::string::npos);
+  const auto version = run(texsim() + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  for (const char* part : {"texsim ", "git ", "PETSc 3.", "HDF5 1.", "VTK 9.", "OpenVDB 10"})
+    EXPECT_NE(version.output.find(part), std::string::npos) << part << " in " << version.output;
+}
+
+TEST(Cli, ParsesOwnOptionsAndPassesPetscOptionsOn) {
+  const char* argv[] = {"texsim", "run.yaml",      "--set", "a.b=1", "-ksp_type", "cg",
+                        "--restart", "-pc_type", "gamg", "--quiet", "-ksp_view"};
+  const auto line = texsim::app::parse_command_line(11, argv);
+  EXPECT_EQ(line.config_path, "run.yaml");
+  EXPECT_EQ(line.overrides, std::vector<std::string>{"a.b=1"});
+  EXPECT_EQ(line.restart, "latest");
+  EXPECT_TRUE(line.quiet);
+  EXPECT_EQ(line.petsc_args, (std::vector<std::string>{"texsim", "-ksp_type", "cg", "-pc_type",
+                                                       "gamg", "-ksp_view"}));
+  const char* with_path[] = {"texsim", "--restart", "out/checkpoints/step_000000010.h5", "r.yaml"};
+  EXPECT_EQ(texsim::app::parse_command_line(4, with_path).restart,
+            "out/checkpoints/step_000000010.h5");
+}
+
+TEST(Cli, UnknownOptionIsAnInputErrorWithHint) {
+  const auto outcome = run(texsim() + " config.yaml --quite");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find("unknown option --quite (did you mean --quiet?)"),
+            std::string::npos)
+      << outcome.output;
+}
+
+TEST(Cli, MissingConfigFileExitsTwoNamingTheFile) {
+  const auto outcome = run(mpirun(2) + " /nonexistent/run.yaml");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find("/nonexistent/run.yaml: cannot open config file"),
+            std::string::npos)
+      << outcome.output;
+}
+
+TEST(Cli, BadValueExitsTwoOnAllRanksWithOneMessage) {
+  const auto dir = scratch("bad_value");
+  const auto config = write_file(dir / "bad.yaml", "pipeline: mesh_prep\noutput: {every: -3}\n");
+  const auto outcome = run(mpirun(3) + " " + config.string());
+  EXPECT_EQ(outcome.exit_code, 2);
+  const std::string expected = "output.every: expected a positive integer, got -3";
+  const auto first = outcome.output.find(expected);
+  ASSERT_NE(first, std::string::npos) << outcome.output;
+  EXPECT_EQ(outcome.output.find(expected, first + 1), std::string::npos) << "printed twice";
+  EXPECT_FALSE(fs::exists(dir / "out")) << "nothing may be written on bad input";
+}
+
+TEST(Cli, UnknownKeyGetsDidYouMean) {
+  const auto dir = scratch("unknown_key");
+  const auto config = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n");
+  const auto outcome = run(texsim() + " validate " + config.string());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find("unknown key 'seeed' (did you mean 'seed'?)"), std::string::npos)
+      << outcome.output;
+}
+
+TEST(Cli, UnknownPipelineListsTheRegisteredOnes) {
+  const auto dir = scratch("unknown_pipeline");
+  const auto config = write_file(dir / "p.yaml", "pipeline: warp_drive\n");
+  const auto outcome = run(texsim() + " validate " + config.string());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find("pipeline: expected one of mesh_prep"), std::string::npos)
+      << outcome.output;
+}
+
+TEST(Cli, SetOverrideIsValidatedLikeTheFile) {
+  const auto outcome =
+      run(texsim() + " validate " + source("config/default.yaml").string() + " --set seed=-1");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find("seed: expected a non-negative integer, got -1"),
+            std::string::npos)
+      << outcome.output;
+}
+
+TEST(Cli, EveryShippedConfigValidates) {
+  int checked = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(source("config"))) {
+    if (entry.path().extension() != ".yaml")
+      continue;
+    const auto outcome = run("cd " + source("").string() + " && " + texsim() +
+                             " validate --quiet " + entry.path().string());
+    if (outcome.exit_code == 2 && outcome.output.find("data/") != std::string::npos &&
+        !fs::exists(source("data"))) {
+      std::cout << "skipped " << entry.path() << ": data/ is absent (run scripts/fetch-data)\n";
+      continue;
+    }
+    EXPECT_EQ(outcome.exit_code, 0) << entry.path() << ":\n" << outcome.output;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+TEST(Cli, RunRefusesToOverwriteAnotherRun) {
+  const auto dir = scratch("overwrite");
+  const auto out = dir / "out";
+  const std::string common = texsim() + " --quiet " +
+                             source("config/mesh_prep/smoke.yaml").string() +
+                             " --set output.dir=" + out.string();
+  ASSERT_EQ(run(common).exit_code, 0);
+  const auto before = fs::last_write_time(out / "summary.json");
+  const auto second = run(common);
+  EXPECT_EQ(second.exit_code, 2);
+  EXPECT_NE(second.output.find("already holds a run"), std::string::npos) << second.output;
+  EXPECT_EQ(fs::last_write_time(out / "summary.json"), before);
+}
+
+TEST(Cli, SmokeRunAtTwoRanksWritesSummaryAndParaViewFiles) {
+  const auto dir = scratch("smoke");
+  const auto out = dir / "out";
+  const auto outcome = run(mpirun(2) + " " + source("config/mesh_prep/smoke.yaml").string() +
+                           " --set output.dir=" + out.string());
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+  std::ifstream in(out / "summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["pipeline"], "mesh_prep");
+  EXPECT_EQ(summary["ranks"], 2);
+  EXPECT_EQ(summary["threads"], 1);
+  EXPECT_GT(summary["wall_s"].get<double>(), 0.0);
+  EXPECT_FALSE(summary["stages"].empty());
+  EXPECT_EQ(summary["config_hash"].get<std::string>().size(), 16u);
+  EXPECT_TRUE(summary["metrics"].is_object());
+  bool has_pvd = false;
+  for (const auto& output : summary["outputs"]) {
+    EXPECT_TRUE(fs::exists(output.get<std::string>())) << output;
+    has_pvd |= fs::path(output.get<std::string>()).extension() == ".pvd";
+  }
+  EXPECT_TRUE(has_pvd);
+}
+
+} // namespace
