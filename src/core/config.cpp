@@ -262,7 +262,7 @@ void ConfigDocument::check_unknown_keys() const {
   const std::string parent = dot == std::string::npos ? "" : unknown->substr(0, dot + 1);
   const std::string leaf = dot == std::string::npos ? *unknown : unknown->substr(dot + 1);
   std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, leaf.size() / 3) + 1;
+  std::size_t best_distance = std::string::npos;
   std::vector<std::string> siblings;
   for (const auto& known : *known_) {
     if (known.compare(0, parent.size(), parent) != 0)
@@ -271,8 +271,10 @@ void ConfigDocument::check_unknown_keys() const {
     if (rest.find('.') != std::string::npos)
       continue;
     siblings.push_back(rest);
+    // Close enough to be a typo: at most half the longer name differs (at least 2 edits allowed).
     const std::size_t distance = edit_distance(leaf, rest);
-    if (distance < best_distance) {
+    const std::size_t allowed = std::max<std::size_t>(2, std::max(leaf.size(), rest.size()) / 2);
+    if (distance <= allowed && distance < best_distance) {
       best_distance = distance;
       best = known;
     }

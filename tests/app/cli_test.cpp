@@ -24,8 +24,9 @@ struct Outcome {
 
 // Runs a shell command line; the environment is cleared of MPI launcher variables so texsim
 // starts as a fresh job.
-Outcome run(const std::string& command) {
-  const std::string full = "env -u OMPI_COMM_WORLD_SIZE -u PMIX_RANK OMP_NUM_THREADS=1 " +
+Outcome run(const std::string& command, const fs::path& working_dir = fs::current_path()) {
+  const std::string full = "cd " + working_dir.string() +
+                           " && env -u OMPI_COMM_WORLD_SIZE -u PMIX_RANK OMP_NUM_THREADS=1 " +
                            command + " 2>&1";
   Outcome outcome;
   FILE* pipe = popen(full.c_str(), "r");
@@ -111,7 +112,8 @@ TEST(Cli, BadValueExitsTwoOnAllRanksWithOneMessage) {
 
 TEST(Cli, UnknownKeyGetsDidYouMean) {
   const auto dir = scratch("unknown_key");
-  const auto config = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n");
+  const auto config = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n"
+                                         "mesh_prep: {input: {generator: torus}}\n");
   const auto outcome = run(texsim() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("unknown key 'seeed' (did you mean 'seed'?)"), std::string::npos)
@@ -141,8 +143,8 @@ TEST(Cli, EveryShippedConfigValidates) {
   for (const auto& entry : fs::recursive_directory_iterator(source("config"))) {
     if (entry.path().extension() != ".yaml")
       continue;
-    const auto outcome = run("cd " + source("").string() + " && " + texsim() +
-                             " validate --quiet " + entry.path().string());
+    const auto outcome =
+        run(texsim() + " validate --quiet " + entry.path().string(), source(""));
     if (outcome.exit_code == 2 && outcome.output.find("data/") != std::string::npos &&
         !fs::exists(source("data"))) {
       std::cout << "skipped " << entry.path() << ": data/ is absent (run scripts/fetch-data)\n";
