@@ -7,12 +7,11 @@
 
 namespace texsim::app {
 namespace {
-constexpr std::array<const char*, 6> kOptions = {"--set", "--restart", "--quiet",
+constexpr std::array<const char*, 6> kOptions = {"--set",  "--restart", "--quiet",
                                                  "--help", "--version", "--set=KEY=VALUE"};
 
 bool is_checkpoint_argument(const std::string& text) {
-  return text == "latest" ||
-         (text.size() > 3 && text.compare(text.size() - 3, 3, ".h5") == 0);
+  return text == "latest" || (text.size() > 3 && text.compare(text.size() - 3, 3, ".h5") == 0);
 }
 
 [[noreturn]] void unknown_option(const std::string& option) {
@@ -89,8 +88,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (positional.empty())
     throw InputError("no config file given; usage: texsim CONFIG.yaml (see texsim --help)");
   if (positional.size() > 1)
-    throw InputError("expected one config file, got '" + positional[0] + "' and '" +
-                     positional[1] + "' (see texsim --help)");
+    throw InputError("expected one config file, got '" + positional[0] + "' and '" + positional[1] +
+                     "' (see texsim --help)");
   line.config_path = positional.front();
   return line;
 }

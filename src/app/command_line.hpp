@@ -12,8 +12,8 @@ enum class Command { kRun, kValidate, kHelp, kVersion };
 struct CommandLine {
   Command command = Command::kRun;
   std::string config_path;
-  std::vector<std::string> overrides;  ///< --set key.path=value, in order
-  std::optional<std::string> restart;  ///< --restart: "latest" unless a checkpoint path follows
+  std::vector<std::string> overrides; ///< --set key.path=value, in order
+  std::optional<std::string> restart; ///< --restart: "latest" unless a checkpoint path follows
   bool quiet = false;
   std::vector<std::string> petsc_args; ///< argv[0] followed by the PETSc options
 };

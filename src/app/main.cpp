@@ -23,8 +23,8 @@ void print_version() {
   unsigned major = 0, minor = 0, release = 0;
   H5get_libversion(&major, &minor, &release);
   std::cout << "texsim " << build_info::kVersion << " (git " << build_info::kGitHash << ")\n"
-            << "  PETSc " << build_info::kPetscVersion << ", HDF5 " << major << "." << minor
-            << "." << release << ", VTK " << build_info::kVtkVersion << ", OpenVDB "
+            << "  PETSc " << build_info::kPetscVersion << ", HDF5 " << major << "." << minor << "."
+            << release << ", VTK " << build_info::kVtkVersion << ", OpenVDB "
             << build_info::kOpenVdbVersion << "\n"
             << "  pipelines: " << registered_pipeline_list() << "\n";
 }
@@ -104,8 +104,8 @@ int execute(const par::Comm& comm, const CommandLine& line) {
   const std::string text = read_config_on_root(comm, line);
   ConfiguredRun run = configure(comm, text, line);
   if (line.command == Command::kValidate) {
-    log::info(log::cat(line.config_path, ": valid ", run.common.pipeline,
-                       " config (config hash ", run.common.run.config_hash, ")\n---\n", text));
+    log::info(log::cat(line.config_path, ": valid ", run.common.pipeline, " config (config hash ",
+                       run.common.run.config_hash, ")\n---\n", text));
     return 0;
   }
   insert_petsc_options(run.common.petsc);
@@ -120,13 +120,13 @@ int execute(const par::Comm& comm, const CommandLine& line) {
   run.pipeline->run(context);
 
   if (comm.is_root()) {
-    SummaryHeader header{run.common.pipeline, comm.size, omp_get_max_threads(),
-                         wall_seconds() - start_s, run.common.run.config_hash,
-                         run.common.run.restart.has_value()};
+    SummaryHeader header{run.common.pipeline,        comm.size,
+                         omp_get_max_threads(),      wall_seconds() - start_s,
+                         run.common.run.config_hash, run.common.run.restart.has_value()};
     write_summary(run.common.run.output_dir, header, timers, report);
   }
-  log::info(log::cat("done in ", wall_seconds() - start_s, " s; summary: ",
-                     (run.common.run.output_dir / "summary.json").string()));
+  log::info(log::cat("done in ", wall_seconds() - start_s,
+                     " s; summary: ", (run.common.run.output_dir / "summary.json").string()));
   for (const auto& output : report.outputs())
     if (std::filesystem::path(output).extension() == ".pvd")
       log::info("open in ParaView: paraview " + output);

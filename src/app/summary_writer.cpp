@@ -19,8 +19,8 @@ void write_summary(const std::filesystem::path& output_dir, const SummaryHeader&
   summary["config_hash"] = header.config_hash;
   summary["stages"] = nlohmann::json::array();
   for (const auto& stage : timers.stages())
-    summary["stages"].push_back({{"name", stage.name}, {"wall_s", stage.wall_s},
-                                 {"calls", stage.calls}});
+    summary["stages"].push_back(
+        {{"name", stage.name}, {"wall_s", stage.wall_s}, {"calls", stage.calls}});
   summary["metrics"] = report.metrics();
   summary["outputs"] = report.outputs();
 

@@ -67,7 +67,9 @@ template <class T> std::optional<T> decode(const YAML::Node& node) {
 template <> std::optional<double> convert<double>(const YAML::Node& node) {
   return decode<double>(node);
 }
-template <> std::optional<int> convert<int>(const YAML::Node& node) { return decode<int>(node); }
+template <> std::optional<int> convert<int>(const YAML::Node& node) {
+  return decode<int>(node);
+}
 template <> std::optional<std::int64_t> convert<std::int64_t>(const YAML::Node& node) {
   return decode<std::int64_t>(node);
 }
@@ -84,7 +86,8 @@ template <> std::optional<std::string> convert<std::string>(const YAML::Node& no
     return std::nullopt;
   return node.Scalar();
 }
-template <> std::optional<std::vector<double>> convert<std::vector<double>>(const YAML::Node& node) {
+template <>
+std::optional<std::vector<double>> convert<std::vector<double>>(const YAML::Node& node) {
   if (!node.IsSequence())
     return std::nullopt;
   std::vector<double> values;
@@ -104,14 +107,30 @@ std::optional<std::array<double, 3>> convert<std::array<double, 3>>(const YAML::
   return std::array<double, 3>{(*values)[0], (*values)[1], (*values)[2]};
 }
 
-template <> std::string type_name<double>() { return "a number"; }
-template <> std::string type_name<int>() { return "an integer"; }
-template <> std::string type_name<std::int64_t>() { return "an integer"; }
-template <> std::string type_name<std::uint64_t>() { return "a non-negative integer"; }
-template <> std::string type_name<bool>() { return "true or false"; }
-template <> std::string type_name<std::string>() { return "a string"; }
-template <> std::string type_name<std::vector<double>>() { return "a list of numbers"; }
-template <> std::string type_name<std::array<double, 3>>() { return "a list of 3 numbers"; }
+template <> std::string type_name<double>() {
+  return "a number";
+}
+template <> std::string type_name<int>() {
+  return "an integer";
+}
+template <> std::string type_name<std::int64_t>() {
+  return "an integer";
+}
+template <> std::string type_name<std::uint64_t>() {
+  return "a non-negative integer";
+}
+template <> std::string type_name<bool>() {
+  return "true or false";
+}
+template <> std::string type_name<std::string>() {
+  return "a string";
+}
+template <> std::string type_name<std::vector<double>>() {
+  return "a list of numbers";
+}
+template <> std::string type_name<std::array<double, 3>>() {
+  return "a list of 3 numbers";
+}
 } // namespace detail
 
 ConfigSection::ConfigSection(ConfigDocument* document, YAML::Node node, std::string path)
@@ -233,7 +252,9 @@ void ConfigDocument::set_override(const std::string& assignment) {
   node[keys.back()] = value;
 }
 
-ConfigSection ConfigDocument::root() { return ConfigSection(this, root_, ""); }
+ConfigSection ConfigDocument::root() {
+  return ConfigSection(this, root_, "");
+}
 
 namespace {
 // Walks the tree; returns the first key path nobody asked for.

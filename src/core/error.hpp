@@ -9,7 +9,8 @@
 
 namespace texsim {
 
-/// Internal failure: a broken invariant, a failed library call, an I/O error not caused by the user.
+/// Internal failure: a broken invariant, a failed library call, an I/O error not caused by the
+/// user.
 class Error : public std::runtime_error {
 public:
   using std::runtime_error::runtime_error;

@@ -13,7 +13,9 @@ void init(int rank, bool quiet) {
   g_quiet = quiet;
 }
 
-bool info_enabled() { return g_rank == 0 && !g_quiet; }
+bool info_enabled() {
+  return g_rank == 0 && !g_quiet;
+}
 
 void info(const std::string& line) {
   if (info_enabled())

@@ -16,8 +16,7 @@ std::string format_duration(double seconds) {
   else if (seconds < 3600)
     std::snprintf(buffer, sizeof buffer, "%dm%02ds", int(seconds) / 60, int(seconds) % 60);
   else
-    std::snprintf(buffer, sizeof buffer, "%dh%02dm", int(seconds) / 3600,
-                  int(seconds) % 3600 / 60);
+    std::snprintf(buffer, sizeof buffer, "%dh%02dm", int(seconds) / 3600, int(seconds) % 3600 / 60);
   return buffer;
 }
 

@@ -18,9 +18,10 @@ public:
   /// Four independent 32-bit words for (id, step, block). Thread-safe, no state.
   std::array<std::uint32_t, 4> bits(std::uint64_t id, std::uint32_t step,
                                     std::uint32_t block = 0) const {
-    return philox4x32_10({(stream_ << 16) | (block & 0xffffu), static_cast<std::uint32_t>(id),
-                          static_cast<std::uint32_t>(id >> 32), step},
-                         {static_cast<std::uint32_t>(seed_), static_cast<std::uint32_t>(seed_ >> 32)});
+    return philox4x32_10(
+        {(stream_ << 16) | (block & 0xffffu), static_cast<std::uint32_t>(id),
+         static_cast<std::uint32_t>(id >> 32), step},
+        {static_cast<std::uint32_t>(seed_), static_cast<std::uint32_t>(seed_ >> 32)});
   }
 
   /// The Philox4x32 bijection with 10 rounds, as specified by Salmon et al. (Random123).

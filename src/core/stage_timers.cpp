@@ -5,8 +5,7 @@
 namespace texsim {
 
 double wall_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 StageTimers::Scope::Scope(StageTimers& owner, std::size_t index)

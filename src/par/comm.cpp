@@ -2,7 +2,9 @@
 
 namespace texsim::par {
 
-void Comm::barrier() const { MPI_Barrier(raw); }
+void Comm::barrier() const {
+  MPI_Barrier(raw);
+}
 
 Comm world() {
   Comm comm;

@@ -1,7 +1,7 @@
 #pragma once
 /// Space-filling-curve partition of points: sorted along a 3D Morton (Z-order) curve and cut into
-/// contiguous runs of equal count, so each part is spatially compact and parts differ by at most one
-/// point. Deterministic: the same points give the same parts on any number of ranks.
+/// contiguous runs of equal count, so each part is spatially compact and parts differ by at most
+/// one point. Deterministic: the same points give the same parts on any number of ranks.
 #include <array>
 #include <cstdint>
 #include <vector>

@@ -10,7 +10,9 @@ PetscSession::PetscSession(int& argc, char**& argv) {
   TEXSIM_PETSC_CALL(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
 }
 
-PetscSession::~PetscSession() { PetscFinalize(); }
+PetscSession::~PetscSession() {
+  PetscFinalize();
+}
 
 void throw_petsc_error(PetscErrorCode code, const char* expression, const char* file, int line) {
   const char* text = nullptr;

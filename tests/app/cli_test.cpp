@@ -38,12 +38,16 @@ Outcome run(const std::string& command, const fs::path& working_dir = fs::curren
   return outcome;
 }
 
-std::string texsim() { return TEXSIM_BINARY_PATH; }
+std::string texsim() {
+  return TEXSIM_BINARY_PATH;
+}
 std::string mpirun(int ranks) {
   return std::string(TEXSIM_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " +
          std::to_string(ranks) + " " + texsim();
 }
-fs::path source(const std::string& relative) { return fs::path(TEXSIM_SOURCE_DIR) / relative; }
+fs::path source(const std::string& relative) {
+  return fs::path(TEXSIM_SOURCE_DIR) / relative;
+}
 
 fs::path scratch(const std::string& name) {
   const auto dir = fs::temp_directory_path() / ("texsim_cli_" + name);
@@ -68,8 +72,8 @@ TEST(Cli, HelpAndVersion) {
 }
 
 TEST(Cli, ParsesOwnOptionsAndPassesPetscOptionsOn) {
-  const char* argv[] = {"texsim", "run.yaml",      "--set", "a.b=1", "-ksp_type", "cg",
-                        "--restart", "-pc_type", "gamg", "--quiet", "-ksp_view"};
+  const char* argv[] = {"texsim",    "run.yaml", "--set", "a.b=1",   "-ksp_type", "cg",
+                        "--restart", "-pc_type", "gamg",  "--quiet", "-ksp_view"};
   const auto line = texsim::app::parse_command_line(11, argv);
   EXPECT_EQ(line.config_path, "run.yaml");
   EXPECT_EQ(line.overrides, std::vector<std::string>{"a.b=1"});
@@ -113,7 +117,7 @@ TEST(Cli, BadValueExitsTwoOnAllRanksWithOneMessage) {
 TEST(Cli, UnknownKeyGetsDidYouMean) {
   const auto dir = scratch("unknown_key");
   const auto config = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n"
-                                         "mesh_prep: {input: {generator: torus}}\n");
+                                                    "mesh_prep: {input: {generator: torus}}\n");
   const auto outcome = run(texsim() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("unknown key 'seeed' (did you mean 'seed'?)"), std::string::npos)
@@ -133,8 +137,7 @@ TEST(Cli, SetOverrideIsValidatedLikeTheFile) {
   const auto outcome =
       run(texsim() + " validate " + source("config/default.yaml").string() + " --set seed=-1");
   EXPECT_EQ(outcome.exit_code, 2);
-  EXPECT_NE(outcome.output.find("seed: expected a non-negative integer, got -1"),
-            std::string::npos)
+  EXPECT_NE(outcome.output.find("seed: expected a non-negative integer, got -1"), std::string::npos)
       << outcome.output;
 }
 
@@ -143,8 +146,7 @@ TEST(Cli, EveryShippedConfigValidates) {
   for (const auto& entry : fs::recursive_directory_iterator(source("config"))) {
     if (entry.path().extension() != ".yaml")
       continue;
-    const auto outcome =
-        run(texsim() + " validate --quiet " + entry.path().string(), source(""));
+    const auto outcome = run(texsim() + " validate --quiet " + entry.path().string(), source(""));
     if (outcome.exit_code == 2 && outcome.output.find("data/") != std::string::npos &&
         !fs::exists(source("data"))) {
       std::cout << "skipped " << entry.path() << ": data/ is absent (run scripts/fetch-data)\n";

@@ -86,9 +86,9 @@ TEST(Config, OverridesCreateAndReplaceKeysAndAreValidatedTheSameWay) {
   EXPECT_DOUBLE_EQ(root.section("time").get<double>("dt", 0.0, positive()), 0.25);
   EXPECT_EQ(root.section("output").get<std::string>("dir", ""), "/tmp/x");
   document.set_override("time.dt=-1");
-  EXPECT_EQ(input_error_of([&] { document.root().section("time").get<double>("dt", 0.0,
-                                                                              positive()); }),
-            "time.dt: expected a positive number, got -1");
+  EXPECT_EQ(
+      input_error_of([&] { document.root().section("time").get<double>("dt", 0.0, positive()); }),
+      "time.dt: expected a positive number, got -1");
   EXPECT_NE(input_error_of([&] { document.set_override("novalue"); }), "no InputError");
 }
 
@@ -111,11 +111,13 @@ TEST(Config, FreeFormMapsAreNotCheckedForUnknownKeys) {
 }
 
 TEST(Config, BadYamlAndMissingFileNameTheSource) {
-  EXPECT_NE(input_error_of([] { ConfigDocument::parse("a: [1, 2", "broken.yaml"); })
-                .find("broken.yaml: not valid YAML"),
+  EXPECT_NE(input_error_of([] {
+              ConfigDocument::parse("a: [1, 2", "broken.yaml");
+            }).find("broken.yaml: not valid YAML"),
             std::string::npos);
-  EXPECT_NE(input_error_of([] { ConfigDocument::load("/nonexistent/x.yaml"); })
-                .find("/nonexistent/x.yaml: cannot open"),
+  EXPECT_NE(input_error_of([] {
+              ConfigDocument::load("/nonexistent/x.yaml");
+            }).find("/nonexistent/x.yaml: cannot open"),
             std::string::npos);
 }
 

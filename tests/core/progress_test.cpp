@@ -10,8 +10,7 @@ namespace {
 
 TEST(Progress, LineShowsCountPercentRateAndEta) {
   const Progress progress("relax", 1000, "steps");
-  EXPECT_EQ(progress.line(250, 10.0),
-            "relax: 250/1000 (25%) 25 steps/s, elapsed 10.0s, ETA 30.0s");
+  EXPECT_EQ(progress.line(250, 10.0), "relax: 250/1000 (25%) 25 steps/s, elapsed 10.0s, ETA 30.0s");
   EXPECT_EQ(progress.line(0, 0.0), "relax: 0/1000 (0%) 0 steps/s, elapsed 0.0s, ETA ?");
 }
 
@@ -24,7 +23,10 @@ TEST(Progress, DurationsReadNaturally) {
 TEST(StageTimers, AccumulatesRepeatedStagesInFirstUseOrder) {
   StageTimers timers;
   for (int i = 0; i < 3; ++i) {
-    { auto s = timers.scope("solve"); std::this_thread::sleep_for(std::chrono::milliseconds(5)); }
+    {
+      auto s = timers.scope("solve");
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
     { auto s = timers.scope("output"); }
   }
   ASSERT_EQ(timers.stages().size(), 2u);

@@ -4,9 +4,13 @@
 
 namespace texsim::test {
 
-std::filesystem::path source_dir() { return TEXSIM_SOURCE_DIR; }
+std::filesystem::path source_dir() {
+  return TEXSIM_SOURCE_DIR;
+}
 
-std::filesystem::path texsim_binary() { return TEXSIM_BINARY_PATH; }
+std::filesystem::path texsim_binary() {
+  return TEXSIM_BINARY_PATH;
+}
 
 std::filesystem::path real_data(const std::string& relative) {
   const auto path = source_dir() / "data" / relative;

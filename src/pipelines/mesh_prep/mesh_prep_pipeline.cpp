@@ -27,8 +27,8 @@ geom::TriangleMesh load(const MeshPrepSettings& settings, RunContext& ctx) {
     auto mesh = geom::read_mesh(settings.file, geom::MeshRepairOptions{}, &repairs);
     ctx.report.metric("repairs", repairs.changed() ? repairs.summary() : "none");
     log::info(log::cat("read ", settings.file.string(), ": ", mesh.num_vertices(), " vertices, ",
-                       mesh.num_triangles(), " triangles; repairs: ",
-                       repairs.changed() ? repairs.summary() : "none"));
+                       mesh.num_triangles(),
+                       " triangles; repairs: ", repairs.changed() ? repairs.summary() : "none"));
     return mesh;
   }
   case Source::kIcosphere:
@@ -100,10 +100,11 @@ std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunConte
   for (const auto t : piece.global_triangle)
     cell_area.push_back(triangle_area[t]);
 
-  io::SurfacePiece surface{xyz, triangles,
-                           {{"normal", 3, normal}, {"vertex_area", 1, area},
-                            {"global_id", 1, global_id}},
-                           {{"rank", 1, owner}, {"area", 1, cell_area}}};
+  io::SurfacePiece surface{
+      xyz,
+      triangles,
+      {{"normal", 3, normal}, {"vertex_area", 1, area}, {"global_id", 1, global_id}},
+      {{"rank", 1, owner}, {"area", 1, cell_area}}};
 
   long long local = static_cast<long long>(piece.global_triangle.size()), most = 0;
   MPI_Allreduce(&local, &most, 1, MPI_LONG_LONG, MPI_MAX, ctx.comm.raw);

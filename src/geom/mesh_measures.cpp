@@ -1,0 +1,75 @@
+#include "geom/mesh_measures.hpp"
+
+#include <Eigen/Geometry>
+
+#include <numeric>
+
+namespace texsim::geom {
+namespace {
+
+Vec3 doubled_area_vector(const TriangleMesh& mesh, const Triangle& tri) {
+  const auto& a = mesh.positions[tri[0]];
+  return (mesh.positions[tri[1]] - a).cross(mesh.positions[tri[2]] - a);
+}
+
+Vec3 normalized_or_zero(const Vec3& v) {
+  const double norm = v.norm();
+  return norm > 0.0 ? Vec3(v / norm) : Vec3::Zero();
+}
+
+} // namespace
+
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+std::vector<double> triangle_areas(const TriangleMesh& mesh) {
+  std::vector<double> areas(mesh.triangles.size());
+  for (std::size_t t = 0; t < areas.size(); ++t) {
+    areas[t] = 0.5 * doubled_area_vector(mesh, mesh.triangles[t]).norm();
+  }
+  return areas;
+}
+
+double total_area(const TriangleMesh& mesh) {
+  const auto areas = triangle_areas(mesh);
+  return std::accumulate(areas.begin(), areas.end(), 0.0);
+}
+
+std::vector<Vec3> triangle_normals(const TriangleMesh& mesh) {
+  std::vector<Vec3> normals(mesh.triangles.size());
+  for (std::size_t t = 0; t < normals.size(); ++t) {
+    normals[t] = normalized_or_zero(doubled_area_vector(mesh, mesh.triangles[t]));
+  }
+  return normals;
+}
+
+std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
+  std::vector<Vec3> normals(mesh.positions.size(), Vec3::Zero());
+  for (const auto& tri : mesh.triangles) {
+    // The cross product's length is twice the area: summing it weights normals by area.
+    const Vec3 weighted = doubled_area_vector(mesh, tri);
+    for (const auto v : tri) {
+      normals[v] += weighted;
+    }
+  }
+  for (auto& n : normals) {
+    n = normalized_or_zero(n);
+  }
+  return normals;
+}
+
+double mean_edge_length(const TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) {
+    return 0.0;
+  }
+  double sum = 0.0;
+  for (const auto& tri : mesh.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      sum += (mesh.positions[tri[(i + 1) % 3]] - mesh.positions[tri[i]]).norm();
+    }
+  }
+  return sum / (3.0 * static_cast<double>(mesh.triangles.size()));
+}
+
+} // namespace texsim::geom

@@ -1,0 +1,30 @@
+#pragma once
+/// Areas, normals and edge lengths of a triangle mesh. Serial; model units throughout.
+#include "geom/triangle_mesh.hpp"
+
+#include <vector>
+
+namespace texsim::geom {
+
+/// Area of triangle (a, b, c), in model units squared.
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// Area of each triangle, indexed like mesh.triangles.
+std::vector<double> triangle_areas(const TriangleMesh& mesh);
+
+/// Sum of the triangle areas.
+double total_area(const TriangleMesh& mesh);
+
+/// Unit normal of each triangle by the right-hand rule over its corners; zero for a triangle of
+/// zero area.
+std::vector<Vec3> triangle_normals(const TriangleMesh& mesh);
+
+/// Unit vertex normals: the area-weighted sum of the incident triangles' normals, normalised; zero
+/// for a vertex without triangles (or whose triangles cancel).
+std::vector<Vec3> vertex_normals(const TriangleMesh& mesh);
+
+/// Mean length of the triangle sides (an edge shared by two triangles counts twice); 0 for a mesh
+/// without triangles.
+double mean_edge_length(const TriangleMesh& mesh);
+
+} // namespace texsim::geom

@@ -1,0 +1,23 @@
+#pragma once
+/// Reading triangle surfaces from user files.
+#include "geom/mesh_validation.hpp"
+#include "geom/triangle_mesh.hpp"
+
+#include <filesystem>
+
+namespace texsim::geom {
+
+/// Reads a surface by its extension (case-insensitive): .obj .ply .stl .vtk .vtp .vtu through
+/// VTK's readers (polygons and strips triangulated; points, lines and volume cells' interiors
+/// dropped, the surface of .vtu/.vtk volume cells kept), .off through read_off(). Returns the
+/// file's mesh as stored, without repair. Throws texsim::InputError naming the file for a missing
+/// file, an unknown extension, a file its reader cannot parse, and a file without triangles.
+/// Serial.
+TriangleMesh read_raw_mesh(const std::filesystem::path& path);
+
+/// read_raw_mesh() followed by repair() with `options`; when `report` is not null (not owned) it
+/// receives what was repaired, for the caller to log. Throws texsim::InputError as both do.
+TriangleMesh read_mesh(const std::filesystem::path& path, const MeshRepairOptions& options = {},
+                       RepairReport* report = nullptr);
+
+} // namespace texsim::geom

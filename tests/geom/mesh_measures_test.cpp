@@ -1,0 +1,49 @@
+#include "geom/generators.hpp"
+#include "geom/mesh_measures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace texsim::geom {
+namespace {
+
+TEST(MeshMeasures, RightTriangleAreaNormalAndEdges) {
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {3, 0, 0}, {0, 4, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  EXPECT_DOUBLE_EQ(total_area(mesh), 6.0);
+  EXPECT_TRUE(triangle_normals(mesh)[0].isApprox(Vec3(0, 0, 1)));
+  EXPECT_DOUBLE_EQ(mean_edge_length(mesh), 4.0); // (3 + 4 + 5) / 3
+  for (const auto& n : vertex_normals(mesh)) {
+    EXPECT_TRUE(n.isApprox(Vec3(0, 0, 1)));
+  }
+}
+
+TEST(MeshMeasures, VertexNormalsOfSpherePointOutward) {
+  const auto mesh = icosphere(3, 2.0);
+  const auto normals = vertex_normals(mesh);
+  for (std::int32_t v = 0; v < mesh.num_vertices(); ++v) {
+    // By symmetry of the icosphere the area-weighted normal is close to the radial direction.
+    EXPECT_GT(normals[v].dot(mesh.positions[v].normalized()), 0.999) << "vertex " << v;
+    EXPECT_NEAR(normals[v].norm(), 1.0, 1e-12);
+  }
+}
+
+TEST(MeshMeasures, IcosphereAreaConvergesToSphereAtSecondOrder) {
+  double previous_error = 0.0;
+  for (int level = 1; level <= 5; ++level) {
+    const double error = 4.0 * M_PI - total_area(icosphere(level));
+    EXPECT_GT(error, 0.0); // inscribed polyhedron
+    if (level > 1) {
+      const double ratio = previous_error / error;
+      EXPECT_GT(ratio, 3.5) << "level " << level;
+      EXPECT_LT(ratio, 4.5) << "level " << level;
+    }
+    previous_error = error;
+  }
+  EXPECT_LT(previous_error / (4.0 * M_PI), 1e-3);
+}
+
+} // namespace
+} // namespace texsim::geom
