@@ -1,10 +1,7 @@
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 
 #include "core/log.hpp"
-#include "geom/generators.hpp"
-#include "geom/loop_subdivision.hpp"
 #include "geom/mesh_measures.hpp"
-#include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/p1_matrices.hpp"
 #include "geom/submesh.hpp"
@@ -19,28 +16,6 @@
 
 namespace texsim::pipelines::mesh_prep {
 namespace {
-
-geom::TriangleMesh load(const MeshPrepSettings& settings, RunContext& ctx) {
-  switch (settings.source) {
-  case Source::kFile: {
-    geom::RepairReport repairs;
-    auto mesh = geom::read_mesh(settings.file, geom::MeshRepairOptions{}, &repairs);
-    ctx.report.metric("repairs", repairs.changed() ? repairs.summary() : "none");
-    log::info(log::cat("read ", settings.file.string(), ": ", mesh.num_vertices(), " vertices, ",
-                       mesh.num_triangles(),
-                       " triangles; repairs: ", repairs.changed() ? repairs.summary() : "none"));
-    return mesh;
-  }
-  case Source::kIcosphere:
-    return geom::icosphere(settings.icosphere_level, settings.radius);
-  case Source::kTorus:
-    return geom::torus(settings.major_radius, settings.minor_radius, settings.torus_segments[0],
-                       settings.torus_segments[1]);
-  case Source::kBox:
-    return geom::box(settings.box_size, settings.box_cells_per_edge);
-  }
-  TEXSIM_VERIFY(false, "unhandled mesh source");
-}
 
 void record_measures(const geom::TriangleMesh& mesh, RunContext& ctx) {
   const geom::MeshTopology topology(mesh);
@@ -117,25 +92,21 @@ std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunConte
 } // namespace
 
 void MeshPrepPipeline::configure(const ConfigSection& section) {
-  settings_ = read_mesh_prep_settings(section);
+  source_ = geom::read_mesh_source(section.section("input"));
 }
 
 void MeshPrepPipeline::run(RunContext& ctx) {
   geom::TriangleMesh mesh;
   {
-    auto stage = ctx.timers.scope("load");
-    par::run_collectively(ctx.comm, [&] { mesh = load(settings_, ctx); });
-  }
-  if (settings_.subdivision_levels > 0) {
-    auto stage = ctx.timers.scope("refine");
-    mesh = geom::loop_subdivide(mesh, settings_.subdivision_levels);
-    log::info(log::cat("Loop subdivision x", settings_.subdivision_levels, ": ",
-                       mesh.num_vertices(), " vertices"));
-  }
-  if (settings_.noise_amplitude > 0) {
-    auto stage = ctx.timers.scope("perturb");
-    mesh = geom::noisy(mesh, settings_.noise_amplitude * geom::mean_edge_length(mesh),
-                       ctx.settings.seed);
+    auto stage = ctx.timers.scope("build");
+    geom::RepairReport repairs;
+    par::run_collectively(ctx.comm,
+                          [&] { mesh = geom::build_mesh(source_, ctx.settings.seed, &repairs); });
+    if (!source_.file.empty()) {
+      ctx.report.metric("repairs", repairs.changed() ? repairs.summary() : "none");
+      log::info(log::cat("read ", source_.file.string(),
+                         "; repairs: ", repairs.changed() ? repairs.summary() : "none"));
+    }
   }
   {
     auto stage = ctx.timers.scope("measure");

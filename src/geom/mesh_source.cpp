@@ -1,0 +1,80 @@
+#include "geom/mesh_source.hpp"
+
+#include "geom/generators.hpp"
+#include "geom/loop_subdivision.hpp"
+#include "geom/mesh_measures.hpp"
+#include "geom/mesh_reader.hpp"
+
+#include <vector>
+
+namespace texsim::geom {
+
+MeshSource read_mesh_source(const ConfigSection& section) {
+  MeshSource source;
+  const bool has_file = section.has("file");
+  const bool has_generator = section.has("generator");
+  if (has_file == has_generator)
+    section.fail(has_file ? "generator" : "file",
+                 "exactly one of file (a mesh file) and generator (icosphere, torus, box)");
+  if (has_file) {
+    source.file = section.require<std::string>("file");
+    if (!std::filesystem::is_regular_file(source.file))
+      section.fail("file", "an existing mesh file (.obj .ply .stl .off .vtk .vtp .vtu)");
+  } else {
+    source.generator = section.choice<MeshGenerator>("generator", MeshGenerator::kIcosphere,
+                                                     {{"icosphere", MeshGenerator::kIcosphere},
+                                                      {"torus", MeshGenerator::kTorus},
+                                                      {"box", MeshGenerator::kBox}});
+  }
+  source.icosphere_level = section.get<int>("level", source.icosphere_level, int_in_range(0, 9));
+  source.radius = section.get<double>("radius", source.radius, positive());
+  source.major_radius = section.get<double>("major_radius", source.major_radius, positive());
+  source.minor_radius = section.get<double>("minor_radius", source.minor_radius, positive());
+  if (source.generator == MeshGenerator::kTorus && source.minor_radius >= source.major_radius)
+    section.fail("minor_radius", "a number below major_radius");
+  const auto segments = section.get<std::vector<double>>(
+      "segments", {double(source.torus_segments[0]), double(source.torus_segments[1])});
+  if (segments.size() != 2 || segments[0] < 3 || segments[1] < 3 ||
+      segments[0] != int(segments[0]) || segments[1] != int(segments[1]))
+    section.fail("segments", "two integers >= 3 (around the axis, around the tube)");
+  source.torus_segments = {int(segments[0]), int(segments[1])};
+  const auto size = section.get<std::array<double, 3>>("size", {1.0, 1.0, 1.0});
+  if (size[0] <= 0 || size[1] <= 0 || size[2] <= 0)
+    section.fail("size", "three positive numbers");
+  source.box_size = Vec3(size[0], size[1], size[2]);
+  source.box_cells_per_edge =
+      section.get<int>("cells_per_edge", source.box_cells_per_edge, int_in_range(1, 4096));
+  source.subdivision_levels =
+      section.get<int>("subdivision_levels", source.subdivision_levels, int_in_range(0, 6));
+  source.noise_amplitude =
+      section.get<double>("noise_amplitude", source.noise_amplitude, non_negative());
+  return source;
+}
+
+namespace {
+TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
+  switch (source.generator) {
+  case MeshGenerator::kNone:
+    return read_mesh(source.file, MeshRepairOptions{}, repairs);
+  case MeshGenerator::kIcosphere:
+    return icosphere(source.icosphere_level, source.radius);
+  case MeshGenerator::kTorus:
+    return torus(source.major_radius, source.minor_radius, source.torus_segments[0],
+                 source.torus_segments[1]);
+  case MeshGenerator::kBox:
+    return box(source.box_size, source.box_cells_per_edge);
+  }
+  TEXSIM_VERIFY(false, "unhandled mesh generator");
+}
+} // namespace
+
+TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, RepairReport* repairs) {
+  TriangleMesh mesh = load_or_generate(source, repairs);
+  if (source.subdivision_levels > 0)
+    mesh = loop_subdivide(mesh, source.subdivision_levels);
+  if (source.noise_amplitude > 0)
+    mesh = noisy(mesh, source.noise_amplitude * mean_edge_length(mesh), seed);
+  return mesh;
+}
+
+} // namespace texsim::geom
