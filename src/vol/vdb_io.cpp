@@ -1,0 +1,170 @@
+#include "vol/vdb_io.hpp"
+
+#include <algorithm>
+#include <mutex>
+#include <sstream>
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+
+namespace texsim::vol {
+namespace {
+
+constexpr const char* kDimsKey = "texsim_dense_dims";
+// The transform loses the last bits of the spacing when stored, so the exact values travel as
+// metadata too.
+constexpr const char* kSpacingKey = "texsim_spacing";
+constexpr const char* kOriginKey = "texsim_origin";
+
+void initialize_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+openvdb::Vec3s to_vdb(const img::Rgb& c) {
+  return {c.r, c.g, c.b};
+}
+float to_vdb(float v) {
+  return v;
+}
+void from_vdb(const openvdb::Vec3s& v, img::Rgb& c) {
+  c = {v.x(), v.y(), v.z()};
+}
+void from_vdb(float v, float& out) {
+  out = v;
+}
+
+template <class VdbGrid, class T>
+void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
+                const std::string& grid_name) {
+  initialize_openvdb();
+  using ValueT = typename VdbGrid::ValueType;
+  const Dims dims = grid.dims();
+  const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
+                               openvdb::Coord(dims.nx - 1, dims.ny - 1, dims.nz - 1));
+  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
+  std::transform(grid.data().begin(), grid.data().end(), dense.data(),
+                 [](const T& v) { return to_vdb(v); });
+  auto vdb = VdbGrid::create(openvdb::zeroVal<ValueT>());
+  openvdb::tools::copyFromDense(dense, *vdb, openvdb::zeroVal<ValueT>());
+  vdb->setName(grid_name);
+  const auto& s = grid.spacing();
+  const auto& o = grid.origin();
+  vdb->setTransform(
+      std::make_shared<openvdb::math::Transform>(std::make_shared<openvdb::math::ScaleTranslateMap>(
+          openvdb::Vec3d(s[0], s[1], s[2]), openvdb::Vec3d(o[0], o[1], o[2]))));
+  vdb->insertMeta(kDimsKey, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.nx, dims.ny, dims.nz)));
+  vdb->insertMeta(kSpacingKey, openvdb::Vec3DMetadata(openvdb::Vec3d(s[0], s[1], s[2])));
+  vdb->insertMeta(kOriginKey, openvdb::Vec3DMetadata(openvdb::Vec3d(o[0], o[1], o[2])));
+  try {
+    openvdb::io::File file(path.string());
+    file.write(openvdb::GridCPtrVec{vdb});
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    TEXSIM_VERIFY(false, path.string() << ": cannot write OpenVDB file: " << e.what());
+  }
+}
+
+template <class VdbGrid, class T>
+DenseGrid<T> to_dense(const VdbGrid& vdb, const std::filesystem::path& path) {
+  using ValueT = typename VdbGrid::ValueType;
+  openvdb::CoordBBox box;
+  if (const auto meta = vdb.template getMetadata<openvdb::Vec3IMetadata>(kDimsKey)) {
+    const openvdb::Vec3i n = meta->value();
+    box = openvdb::CoordBBox(openvdb::Coord(0, 0, 0),
+                             openvdb::Coord(n.x() - 1, n.y() - 1, n.z() - 1));
+  } else {
+    box = vdb.evalActiveVoxelBoundingBox();
+  }
+  if (box.empty()) {
+    TEXSIM_INPUT_ERROR(path.string() << ": grid '" << vdb.getName()
+                                     << "' has no active voxels, expected a non-empty volume");
+  }
+  const openvdb::math::Transform& transform = vdb.transform();
+  if (!transform.isLinear() || !transform.baseMap()->getAffineMap()->isScaleTranslate()) {
+    TEXSIM_INPUT_ERROR(path.string()
+                       << ": grid '" << vdb.getName() << "' has a " << transform.mapType()
+                       << " transform, expected an axis-aligned scale and translation");
+  }
+  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
+  openvdb::tools::copyToDense(vdb, dense);
+  const openvdb::Coord size = box.dim();
+  DenseGrid<T> grid(Dims{size.x(), size.y(), size.z()});
+  std::transform(dense.data(), dense.data() + grid.size(), grid.data().begin(),
+                 [](const ValueT& v) {
+                   T out;
+                   from_vdb(v, out);
+                   return out;
+                 });
+  const auto exact_spacing = vdb.template getMetadata<openvdb::Vec3DMetadata>(kSpacingKey);
+  const auto exact_origin = vdb.template getMetadata<openvdb::Vec3DMetadata>(kOriginKey);
+  const openvdb::Vec3d spacing = exact_spacing ? exact_spacing->value() : transform.voxelSize();
+  const openvdb::Vec3d origin =
+      exact_origin ? exact_origin->value() : transform.indexToWorld(box.min());
+  grid.set_spacing({spacing.x(), spacing.y(), spacing.z()});
+  grid.set_origin({origin.x(), origin.y(), origin.z()});
+  return grid;
+}
+
+} // namespace
+
+void write_vdb(const std::filesystem::path& path, const ScalarGrid& grid,
+               const std::string& grid_name) {
+  write_grid<openvdb::FloatGrid>(path, grid, grid_name);
+}
+
+void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
+               const std::string& grid_name) {
+  write_grid<openvdb::Vec3SGrid>(path, grid, grid_name);
+}
+
+AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name) {
+  initialize_openvdb();
+  if (!std::filesystem::is_regular_file(path)) {
+    TEXSIM_INPUT_ERROR(path.string() << ": OpenVDB file not found");
+  }
+  openvdb::GridBase::Ptr base;
+  std::ostringstream available;
+  try {
+    openvdb::io::File file(path.string());
+    file.open();
+    std::string chosen = grid_name;
+    for (auto name = file.beginName(); name != file.endName(); ++name) {
+      available << (available.tellp() > 0 ? ", " : "") << "'" << name.gridName() << "'";
+    }
+    if (chosen.empty()) {
+      const openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
+      for (const auto& grid : *grids) {
+        if (grid->isType<openvdb::FloatGrid>() || grid->isType<openvdb::Vec3SGrid>()) {
+          chosen = grid->getName();
+          break;
+        }
+      }
+      if (chosen.empty()) {
+        TEXSIM_INPUT_ERROR(path.string() << ": no FloatGrid or Vec3SGrid in the file, it has "
+                                         << (available.tellp() > 0 ? available.str() : "no grids"));
+      }
+    }
+    if (!file.hasGrid(chosen)) {
+      TEXSIM_INPUT_ERROR(path.string() << ": no grid named '" << chosen << "', the file has "
+                                       << (available.tellp() > 0 ? available.str() : "no grids"));
+    }
+    base = file.readGrid(chosen);
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    TEXSIM_INPUT_ERROR(path.string() << ": not a readable OpenVDB file: " << e.what());
+  } catch (const std::ios_base::failure& e) {
+    TEXSIM_INPUT_ERROR(path.string() << ": not a readable OpenVDB file: " << e.what());
+  }
+  if (auto scalar = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
+    return to_dense<openvdb::FloatGrid, float>(*scalar, path);
+  }
+  if (auto colour = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base)) {
+    return to_dense<openvdb::Vec3SGrid, img::Rgb>(*colour, path);
+  }
+  TEXSIM_INPUT_ERROR(path.string() << ": grid '" << base->getName() << "' is of type "
+                                   << base->type() << ", expected a FloatGrid or Vec3SGrid");
+}
+
+} // namespace texsim::vol

@@ -1,0 +1,142 @@
+#include "vol/vti_io.hpp"
+
+#include "img/vtk_error_capture.hpp"
+
+#include <sstream>
+
+#include <vtkExecutive.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLImageDataWriter.h>
+
+namespace texsim::vol {
+namespace {
+
+constexpr int components_of(const float*) {
+  return 1;
+}
+constexpr int components_of(const img::Rgb*) {
+  return 3;
+}
+float component(float v, int) {
+  return v;
+}
+float component(const img::Rgb& v, int c) {
+  return v[c];
+}
+
+template <class T>
+void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
+                const std::string& array_name) {
+  const Dims dims = grid.dims();
+  const int components = components_of(static_cast<const T*>(nullptr));
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(dims.nx, dims.ny, dims.nz);
+  image->SetSpacing(grid.spacing().data());
+  image->SetOrigin(grid.origin().data());
+  vtkNew<vtkFloatArray> values;
+  values->SetName(array_name.c_str());
+  values->SetNumberOfComponents(components);
+  values->SetNumberOfTuples(static_cast<vtkIdType>(grid.size()));
+  for (std::size_t id = 0; id < grid.size(); ++id) { // x-fastest storage is VTK's point order
+    for (int c = 0; c < components; ++c) {
+      values->SetTypedComponent(static_cast<vtkIdType>(id), c, component(grid.data()[id], c));
+    }
+  }
+  image->GetPointData()->AddArray(values);
+
+  img::VtkErrorCapture capture;
+  vtkNew<vtkXMLImageDataWriter> writer;
+  capture.watch(writer);
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(image);
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToZLib();
+  const int ok = writer->Write();
+  TEXSIM_VERIFY(ok == 1 && !capture.has_errors(),
+                path.string() << ": cannot write VTK image data: " << capture.errors());
+}
+
+template <class T> DenseGrid<T> copy_array(vtkImageData& image, vtkDataArray& array) {
+  int n[3];
+  image.GetDimensions(n);
+  DenseGrid<T> grid(Dims{n[0], n[1], n[2]});
+  double spacing[3], origin[3];
+  image.GetSpacing(spacing);
+  image.GetOrigin(origin);
+  grid.set_spacing({spacing[0], spacing[1], spacing[2]});
+  grid.set_origin({origin[0], origin[1], origin[2]});
+  for (std::size_t id = 0; id < grid.size(); ++id) {
+    if constexpr (std::is_same_v<T, float>) {
+      grid.data()[id] = static_cast<float>(array.GetComponent(static_cast<vtkIdType>(id), 0));
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        grid.data()[id][c] = static_cast<float>(array.GetComponent(static_cast<vtkIdType>(id), c));
+      }
+    }
+  }
+  return grid;
+}
+
+} // namespace
+
+void write_vti(const std::filesystem::path& path, const ScalarGrid& grid,
+               const std::string& array_name) {
+  write_grid(path, grid, array_name);
+}
+
+void write_vti(const std::filesystem::path& path, const RgbGrid& grid,
+               const std::string& array_name) {
+  write_grid(path, grid, array_name);
+}
+
+AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_name) {
+  if (!std::filesystem::is_regular_file(path)) {
+    TEXSIM_INPUT_ERROR(path.string() << ": VTK image data file not found");
+  }
+  img::VtkErrorCapture capture;
+  vtkNew<vtkXMLImageDataReader> reader;
+  capture.watch(reader);
+  capture.watch(reader->GetExecutive());
+  if (reader->CanReadFile(path.c_str()) == 0) {
+    TEXSIM_INPUT_ERROR(path.string() << ": not a VTK XML image data (.vti) file");
+  }
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  if (capture.has_errors() || image == nullptr || image->GetNumberOfPoints() == 0) {
+    TEXSIM_INPUT_ERROR(path.string() << ": cannot read VTK image data"
+                                     << (capture.has_errors() ? ": " + capture.errors() : ""));
+  }
+  vtkPointData* points = image->GetPointData();
+  std::ostringstream available;
+  for (int a = 0; a < points->GetNumberOfArrays(); ++a) {
+    const char* name = points->GetArrayName(a);
+    available << (a > 0 ? ", " : "") << "'" << (name != nullptr ? name : "") << "'";
+  }
+  vtkDataArray* array = array_name.empty()
+                            ? (points->GetNumberOfArrays() > 0 ? points->GetArray(0) : nullptr)
+                            : points->GetArray(array_name.c_str());
+  if (array == nullptr) {
+    TEXSIM_INPUT_ERROR(path.string()
+                       << ": no point-data array"
+                       << (array_name.empty() ? "" : " named '" + array_name + "'")
+                       << ", the file has "
+                       << (points->GetNumberOfArrays() > 0 ? available.str() : "no point arrays"));
+  }
+  switch (array->GetNumberOfComponents()) {
+  case 1:
+    return copy_array<float>(*image, *array);
+  case 3:
+    return copy_array<img::Rgb>(*image, *array);
+  default:
+    TEXSIM_INPUT_ERROR(path.string() << ": array '" << array->GetName() << "' has "
+                                     << array->GetNumberOfComponents()
+                                     << " components, expected 1 (scalar) or 3 (RGB)");
+  }
+}
+
+} // namespace texsim::vol
