@@ -62,7 +62,7 @@ ConfiguredRun configure(const par::Comm& comm, const std::string& text, const Co
     run.common.run.config_hash = document.result_hash();
     run.common.run.restart = line.restart;
     run.pipeline = make_pipeline(run.common.pipeline);
-    run.pipeline->configure(root.section(run.common.pipeline));
+    run.pipeline->configure(root.section(run.common.pipeline), run.common.run);
     document.check_unknown_keys();
   });
   return run;

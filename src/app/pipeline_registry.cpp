@@ -1,6 +1,7 @@
 #include "app/pipeline_registry.hpp"
 
 #include "core/error.hpp"
+#include "pipelines/fem_rd/fem_rd_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 
 #include <functional>
@@ -12,6 +13,7 @@ using Factory = std::function<std::unique_ptr<pipelines::Pipeline>()>;
 
 const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> entries = {
+      {"fem_rd", [] { return std::make_unique<pipelines::fem_rd::FemRdPipeline>(); }},
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
   };
   return entries;

@@ -153,6 +153,15 @@ bool ConfigSection::has(const std::string& key) const {
   return node && !node.IsNull();
 }
 
+std::vector<std::string> ConfigSection::keys() const {
+  std::vector<std::string> names;
+  if (!node_ || !node_.IsMap())
+    return names;
+  for (const auto& item : node_)
+    names.push_back(item.first.as<std::string>());
+  return names;
+}
+
 std::string ConfigSection::shown_value(const std::string& key) const {
   const YAML::Node node = lookup(key);
   if (!node || node.IsNull())

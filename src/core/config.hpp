@@ -62,6 +62,10 @@ public:
   /// True when the key is present in the file (and records it as known).
   bool has(const std::string& key) const;
 
+  /// Names of the keys of this mapping in file order (user-named entries such as species); does not
+  /// record them as known: read each one through section()/get() for that.
+  std::vector<std::string> keys() const;
+
   /// "fem_rd.time" (empty for the root).
   const std::string& path() const { return path_; }
   /// "fem_rd.time.dt".

@@ -2,11 +2,10 @@
 
 #include "core/error.hpp"
 #include "geom/off_reader.hpp"
+#include "vtk/error_capture.hpp"
 
 #include <vtkAlgorithm.h>
-#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
-#include <vtkCommand.h>
 #include <vtkDataSet.h>
 #include <vtkExecutive.h>
 #include <vtkGenericDataObjectReader.h>
@@ -34,43 +33,6 @@ namespace {
 
 constexpr const char* kKnownExtensions = ".obj .ply .stl .vtk .vtp .vtu .off";
 
-/// Collects the error and warning messages VTK objects emit while it is attached, so they reach
-/// the caller in an InputError instead of VTK's output window (stderr).
-class VtkMessageTrap {
-public:
-  VtkMessageTrap() {
-    callback_->SetClientData(this);
-    callback_->SetCallback(&VtkMessageTrap::record);
-  }
-
-  void watch(vtkObject* object) {
-    object->AddObserver(vtkCommand::ErrorEvent, callback_);
-    object->AddObserver(vtkCommand::WarningEvent, callback_);
-  }
-
-  const std::vector<std::string>& errors() const { return errors_; }
-
-private:
-  static void record(vtkObject*, unsigned long event, void* client, void* call_data) {
-    if (event != vtkCommand::ErrorEvent || call_data == nullptr) {
-      return;
-    }
-    std::string message(static_cast<const char*>(call_data));
-    // VTK prefixes "ClassName (0x...): "; keep what follows, on one line.
-    if (const auto colon = message.find("): "); colon != std::string::npos) {
-      message.erase(0, colon + 3);
-    }
-    std::replace(message.begin(), message.end(), '\n', ' ');
-    while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) {
-      message.pop_back();
-    }
-    static_cast<VtkMessageTrap*>(client)->errors_.push_back(message);
-  }
-
-  vtkNew<vtkCallbackCommand> callback_;
-  std::vector<std::string> errors_;
-};
-
 std::string lower_extension(const std::filesystem::path& path) {
   auto ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -78,37 +40,32 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
+template <class Reader> vtkSmartPointer<Reader> reader_for(const std::string& file) {
+  auto reader = vtkSmartPointer<Reader>::New();
+  reader->SetFileName(file.c_str());
+  return reader;
+}
+
 vtkSmartPointer<vtkAlgorithm> make_vtk_reader(const std::string& ext, const std::string& file) {
   if (ext == ".obj") {
-    auto reader = vtkSmartPointer<vtkOBJReader>::New();
-    reader->SetFileName(file.c_str());
-    return reader;
+    return reader_for<vtkOBJReader>(file);
   }
   if (ext == ".ply") {
-    auto reader = vtkSmartPointer<vtkPLYReader>::New();
-    reader->SetFileName(file.c_str());
-    return reader;
+    return reader_for<vtkPLYReader>(file);
   }
   if (ext == ".stl") {
-    auto reader = vtkSmartPointer<vtkSTLReader>::New();
-    reader->SetFileName(file.c_str());
+    auto reader = reader_for<vtkSTLReader>(file);
     reader->MergingOn(); // STL stores each triangle's corners separately; share equal points.
     return reader;
   }
   if (ext == ".vtk") {
-    auto reader = vtkSmartPointer<vtkGenericDataObjectReader>::New();
-    reader->SetFileName(file.c_str());
-    return reader;
+    return reader_for<vtkGenericDataObjectReader>(file);
   }
   if (ext == ".vtp") {
-    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-    reader->SetFileName(file.c_str());
-    return reader;
+    return reader_for<vtkXMLPolyDataReader>(file);
   }
   if (ext == ".vtu") {
-    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
-    reader->SetFileName(file.c_str());
-    return reader;
+    return reader_for<vtkXMLUnstructuredGridReader>(file);
   }
   return nullptr;
 }
@@ -116,14 +73,15 @@ vtkSmartPointer<vtkAlgorithm> make_vtk_reader(const std::string& ext, const std:
 /// Runs `algorithm`, turning any VTK error into an InputError about `path`.
 void update_or_throw(vtkAlgorithm* algorithm, const std::filesystem::path& path,
                      const char* expected) {
-  VtkMessageTrap trap;
-  trap.watch(algorithm);
-  trap.watch(algorithm->GetExecutive());
+  vtk::ErrorCapture capture;
+  capture.watch(algorithm);
+  capture.watch(algorithm->GetExecutive());
   algorithm->Update();
-  if (!trap.errors().empty() || algorithm->GetErrorCode() != 0) {
-    TEXSIM_INPUT_ERROR(path.string()
-                       << ": cannot be read as " << expected << " ("
-                       << (trap.errors().empty() ? "reader failed" : trap.errors().front()) << ")");
+  if (capture.has_errors() || algorithm->GetErrorCode() != 0) {
+    TEXSIM_INPUT_ERROR(
+        path.string() << ": cannot be read as " << expected << " ("
+                      << (capture.has_errors() ? capture.error_messages().front() : "reader failed")
+                      << ")");
   }
 }
 

@@ -1,6 +1,6 @@
 #include "img/image_io.hpp"
 
-#include "img/vtk_error_capture.hpp"
+#include "vtk/error_capture.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -144,7 +144,7 @@ RgbImage read_image(const std::filesystem::path& path) {
   if (ext == ".png") {
     check_png_structure(path);
   }
-  VtkErrorCapture capture;
+  vtk::ErrorCapture capture;
   capture.watch(reader);
   if (reader->CanReadFile(path.c_str()) == 0) {
     TEXSIM_INPUT_ERROR(path.string()
@@ -177,7 +177,7 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
   }
   data->GetPointData()->SetScalars(scalars);
 
-  VtkErrorCapture capture;
+  vtk::ErrorCapture capture;
   vtkNew<vtkPNGWriter> writer;
   capture.watch(writer);
   writer->SetFileName(path.c_str());

@@ -2,10 +2,10 @@
 
 #include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
-#include "io/hdf5_call.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
 #include "par/collective.hpp"
+#include "par/hdf5_call.hpp"
 
 #include <algorithm>
 #include <array>
@@ -50,23 +50,25 @@ T expect_attribute(const AttributeValue& value, const std::filesystem::path& pat
 void select_elements(hid_t space, std::uint64_t offset, std::uint64_t count, int components,
                      const std::filesystem::path& path) {
   if (count == 0) {
-    TEXSIM_HDF5_CALL(H5Sselect_none(space), path);
+    TEXSIM_HDF5_CALL(H5Sselect_none(space), path.string());
     return;
   }
   const std::array<hsize_t, 2> start{offset, 0};
   const std::array<hsize_t, 2> size{count, static_cast<hsize_t>(components)};
   TEXSIM_HDF5_CALL(
       H5Sselect_hyperslab(space, H5S_SELECT_SET, start.data(), nullptr, size.data(), nullptr),
-      path);
+      path.string());
 }
 
-Hdf5Handle memory_space(std::uint64_t count, int components, const std::filesystem::path& path) {
+par::Hdf5Handle memory_space(std::uint64_t count, int components,
+                             const std::filesystem::path& path) {
   const std::array<hsize_t, 2> dims{std::max<hsize_t>(count, 1), static_cast<hsize_t>(components)};
-  Hdf5Handle space(
-      TEXSIM_HDF5_CALL(H5Screate_simple(components == 1 ? 1 : 2, dims.data(), nullptr), path),
+  par::Hdf5Handle space(
+      TEXSIM_HDF5_CALL(H5Screate_simple(components == 1 ? 1 : 2, dims.data(), nullptr),
+                       path.string()),
       H5Sclose);
   if (count == 0)
-    TEXSIM_HDF5_CALL(H5Sselect_none(space.get()), path);
+    TEXSIM_HDF5_CALL(H5Sselect_none(space.get()), path.string());
   return space;
 }
 
@@ -105,27 +107,31 @@ void CheckpointReader::open_and_check_header(const std::string& config_hash) {
 
   as_corrupt_on_failure(path_, [&] {
     H5G_info_t group{};
-    TEXSIM_HDF5_CALL(H5Gget_info(file_.get(), &group), path_);
+    TEXSIM_HDF5_CALL(H5Gget_info(file_.get(), &group), path_.string());
     for (hsize_t i = 0; i < group.nlinks; ++i) {
       const auto length =
           TEXSIM_HDF5_CALL(H5Lget_name_by_idx(file_.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i,
                                               nullptr, 0, H5P_DEFAULT),
-                           path_);
+                           path_.string());
       std::string name(static_cast<std::size_t>(length) + 1, '\0');
       TEXSIM_HDF5_CALL(H5Lget_name_by_idx(file_.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i,
                                           name.data(), name.size(), H5P_DEFAULT),
-                       path_);
+                       path_.string());
       name.resize(static_cast<std::size_t>(length));
-      const Hdf5Handle dataset(
-          TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_), H5Dclose);
-      const Hdf5Handle type(TEXSIM_HDF5_CALL(H5Dget_type(dataset.get()), path_), H5Tclose);
+      const par::Hdf5Handle dataset(
+          TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_.string()),
+          H5Dclose);
+      const par::Hdf5Handle type(TEXSIM_HDF5_CALL(H5Dget_type(dataset.get()), path_.string()),
+                                 H5Tclose);
       const auto scalar = scalar_type_of_hdf5(type.get());
       TEXSIM_VERIFY(scalar, "dataset '" << name << "' has an unsupported element type");
-      const Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_), H5Sclose);
-      const int rank = TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), path_);
+      const par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_.string()),
+                                  H5Sclose);
+      const int rank = TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), path_.string());
       TEXSIM_VERIFY(rank == 1 || rank == 2, "dataset '" << name << "' has rank " << rank);
       std::array<hsize_t, 2> dims{0, 1};
-      TEXSIM_HDF5_CALL(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr), path_);
+      TEXSIM_HDF5_CALL(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr),
+                       path_.string());
       const auto checksum = read_attribute(dataset.get(), checksum_attribute, path_);
       TEXSIM_VERIFY(std::holds_alternative<std::uint64_t>(checksum),
                     "dataset '" << name << "' has no valid checksum");
@@ -142,17 +148,18 @@ std::uint64_t CheckpointReader::local_checksum_share(const std::string& name,
   const std::uint64_t chunk = std::max<std::uint64_t>(1, verify_chunk_scalars / info.components);
   const std::size_t element_bytes = scalar_size(info.type) * info.components;
   std::vector<unsigned char> buffer(std::min(chunk, end - begin) * element_bytes);
-  const Hdf5Handle dataset(
-      TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_), H5Dclose);
-  const Hdf5Handle file_space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_), H5Sclose);
+  const par::Hdf5Handle dataset(
+      TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_.string()), H5Dclose);
+  const par::Hdf5Handle file_space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_.string()),
+                                   H5Sclose);
   std::uint64_t sum = 0;
   for (std::uint64_t first = begin; first < end; first += chunk) {
     const std::uint64_t count = std::min(chunk, end - first);
     select_elements(file_space.get(), first, count, info.components, path_);
-    const Hdf5Handle memory = memory_space(count, info.components, path_);
+    const par::Hdf5Handle memory = memory_space(count, info.components, path_);
     TEXSIM_HDF5_CALL(H5Dread(dataset.get(), native_hdf5_type(info.type), memory.get(),
                              file_space.get(), H5P_DEFAULT, buffer.data()),
-                     path_);
+                     path_.string());
     sum += checksum_block(buffer.data(), count * info.components, scalar_size(info.type),
                           first * info.components);
   }
@@ -222,16 +229,19 @@ void CheckpointReader::read_block(const std::string& name, ScalarType type, void
   });
   const DatasetInfo& stored = info(name);
   par::run_collectively(comm_, [&] {
-    const Hdf5Handle dataset(
-        TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_), H5Dclose);
-    const Hdf5Handle file_space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_), H5Sclose);
+    const par::Hdf5Handle dataset(
+        TEXSIM_HDF5_CALL(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), path_.string()),
+        H5Dclose);
+    const par::Hdf5Handle file_space(TEXSIM_HDF5_CALL(H5Dget_space(dataset.get()), path_.string()),
+                                     H5Sclose);
     select_elements(file_space.get(), global_offset, count, stored.components, path_);
-    const Hdf5Handle memory = memory_space(count, stored.components, path_);
-    const Hdf5Handle transfer(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_XFER), path_), H5Pclose);
-    TEXSIM_HDF5_CALL(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE), path_);
+    const par::Hdf5Handle memory = memory_space(count, stored.components, path_);
+    const par::Hdf5Handle transfer(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_XFER), path_.string()),
+                                   H5Pclose);
+    TEXSIM_HDF5_CALL(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE), path_.string());
     TEXSIM_HDF5_CALL(H5Dread(dataset.get(), native_hdf5_type(type), memory.get(), file_space.get(),
                              transfer.get(), data),
-                     path_);
+                     path_.string());
   });
 }
 

@@ -2,9 +2,9 @@
 /// Reading one verified checkpoint: obtained from CheckpointStore::open(), which has already
 /// checked its format version, config hash and every dataset's checksum.
 #include "io/hdf5_attribute.hpp"
-#include "io/hdf5_handle.hpp"
 #include "io/scalar_type.hpp"
 #include "par/comm.hpp"
+#include "par/hdf5_handle.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -78,7 +78,7 @@ private:
   std::filesystem::path path_;
   std::int64_t step_ = 0;
   std::map<std::string, DatasetInfo> datasets_;
-  Hdf5Handle file_;
+  par::Hdf5Handle file_;
 };
 
 } // namespace texsim::io

@@ -14,7 +14,7 @@ namespace {
 /// The config hash stored in a checkpoint, or nothing if the file cannot be read.
 std::optional<std::string> stored_config_hash(const std::filesystem::path& path) {
   try {
-    const Hdf5Handle file = open_serial_file(path);
+    const par::Hdf5Handle file = open_serial_file(path);
     const auto value = read_attribute(file.get(), config_hash_attribute, path);
     if (const auto* hash = std::get_if<std::string>(&value))
       return *hash;

@@ -2,10 +2,10 @@
 
 #include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
-#include "io/hdf5_call.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
 #include "par/collective.hpp"
+#include "par/hdf5_call.hpp"
 
 #include <algorithm>
 #include <array>
@@ -94,33 +94,36 @@ void CheckpointWriter::write_block(const std::string& name, ScalarType type, con
     const auto& file = temporary_path_;
     const int rank = components == 1 ? 1 : 2;
     const std::array<hsize_t, 2> dims{global_count, static_cast<hsize_t>(components)};
-    const Hdf5Handle file_space(
-        TEXSIM_HDF5_CALL(H5Screate_simple(rank, dims.data(), nullptr), file), H5Sclose);
-    const Hdf5Handle create(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_CREATE), file), H5Pclose);
-    TEXSIM_HDF5_CALL(H5Pset_fill_time(create.get(), H5D_FILL_TIME_NEVER), file);
-    const Hdf5Handle dataset(
+    const par::Hdf5Handle file_space(
+        TEXSIM_HDF5_CALL(H5Screate_simple(rank, dims.data(), nullptr), file.string()), H5Sclose);
+    const par::Hdf5Handle create(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_CREATE), file.string()),
+                                 H5Pclose);
+    TEXSIM_HDF5_CALL(H5Pset_fill_time(create.get(), H5D_FILL_TIME_NEVER), file.string());
+    const par::Hdf5Handle dataset(
         TEXSIM_HDF5_CALL(H5Dcreate2(file_.get(), name.c_str(), native_hdf5_type(type),
                                     file_space.get(), H5P_DEFAULT, create.get(), H5P_DEFAULT),
-                         file),
+                         file.string()),
         H5Dclose);
     const std::array<hsize_t, 2> start{global_offset, 0};
     const std::array<hsize_t, 2> count{local_count, static_cast<hsize_t>(components)};
     const std::array<hsize_t, 2> memory_dims{std::max<hsize_t>(local_count, 1), count[1]};
-    const Hdf5Handle memory_space(
-        TEXSIM_HDF5_CALL(H5Screate_simple(rank, memory_dims.data(), nullptr), file), H5Sclose);
+    const par::Hdf5Handle memory_space(
+        TEXSIM_HDF5_CALL(H5Screate_simple(rank, memory_dims.data(), nullptr), file.string()),
+        H5Sclose);
     if (local_count == 0) {
-      TEXSIM_HDF5_CALL(H5Sselect_none(file_space.get()), file);
-      TEXSIM_HDF5_CALL(H5Sselect_none(memory_space.get()), file);
+      TEXSIM_HDF5_CALL(H5Sselect_none(file_space.get()), file.string());
+      TEXSIM_HDF5_CALL(H5Sselect_none(memory_space.get()), file.string());
     } else {
       TEXSIM_HDF5_CALL(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr,
                                            count.data(), nullptr),
-                       file);
+                       file.string());
     }
-    const Hdf5Handle transfer(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_XFER), file), H5Pclose);
-    TEXSIM_HDF5_CALL(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE), file);
+    const par::Hdf5Handle transfer(TEXSIM_HDF5_CALL(H5Pcreate(H5P_DATASET_XFER), file.string()),
+                                   H5Pclose);
+    TEXSIM_HDF5_CALL(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE), file.string());
     TEXSIM_HDF5_CALL(H5Dwrite(dataset.get(), native_hdf5_type(type), memory_space.get(),
                               file_space.get(), transfer.get(), data),
-                     file);
+                     file.string());
     write_attribute(dataset.get(), checksum_attribute, checksum, file);
   });
   written_.insert(name);
@@ -152,7 +155,7 @@ std::filesystem::path CheckpointWriter::commit() {
   const auto final_path = directory_ / checkpoint_file_name(step_);
   par::run_collectively(comm_, [&] {
     TEXSIM_VERIFY(file_, temporary_path_.string() << ": committed twice");
-    TEXSIM_HDF5_CALL(file_.reset(), temporary_path_);
+    TEXSIM_HDF5_CALL(file_.reset(), temporary_path_.string());
   });
   par::run_collectively(comm_, [&] {
     if (!comm_.is_root())

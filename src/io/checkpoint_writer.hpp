@@ -2,9 +2,9 @@
 /// Writing one checkpoint: named arrays split across ranks into one HDF5 file through MPI-IO,
 /// checksummed, then renamed into place by commit(). Obtained from CheckpointStore::begin().
 #include "io/hdf5_attribute.hpp"
-#include "io/hdf5_handle.hpp"
 #include "io/scalar_type.hpp"
 #include "par/comm.hpp"
+#include "par/hdf5_handle.hpp"
 
 #include <concepts>
 #include <cstdint>
@@ -74,7 +74,7 @@ private:
   std::int64_t step_ = 0;
   int keep_last_ = 1;
   std::set<std::string> written_;
-  Hdf5Handle file_;
+  par::Hdf5Handle file_;
 };
 
 } // namespace texsim::io

@@ -1,34 +1,37 @@
 #include "io/hdf5_file.hpp"
 
-#include "io/hdf5_call.hpp"
+#include "par/hdf5_call.hpp"
 
 namespace texsim::io {
 namespace {
 
-Hdf5Handle mpio_access_list(const par::Comm& comm, const std::filesystem::path& path) {
-  Hdf5Handle access(TEXSIM_HDF5_CALL(H5Pcreate(H5P_FILE_ACCESS), path), H5Pclose);
-  TEXSIM_HDF5_CALL(H5Pset_fapl_mpio(access.get(), comm.raw, MPI_INFO_NULL), path);
+par::Hdf5Handle mpio_access_list(const par::Comm& comm, const std::filesystem::path& path) {
+  par::Hdf5Handle access(TEXSIM_HDF5_CALL(H5Pcreate(H5P_FILE_ACCESS), path.string()), H5Pclose);
+  TEXSIM_HDF5_CALL(H5Pset_fapl_mpio(access.get(), comm.raw, MPI_INFO_NULL), path.string());
   return access;
 }
 
 } // namespace
 
-Hdf5Handle create_parallel_file(const par::Comm& comm, const std::filesystem::path& path) {
-  silence_hdf5_errors();
-  const Hdf5Handle access = mpio_access_list(comm, path);
-  return {TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), path),
+par::Hdf5Handle create_parallel_file(const par::Comm& comm, const std::filesystem::path& path) {
+  par::silence_hdf5_error_printing();
+  const par::Hdf5Handle access = mpio_access_list(comm, path);
+  return {TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()),
+                           path.string()),
           H5Fclose};
 }
 
-Hdf5Handle open_parallel_file(const par::Comm& comm, const std::filesystem::path& path) {
-  silence_hdf5_errors();
-  const Hdf5Handle access = mpio_access_list(comm, path);
-  return {TEXSIM_HDF5_CALL(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), path), H5Fclose};
+par::Hdf5Handle open_parallel_file(const par::Comm& comm, const std::filesystem::path& path) {
+  par::silence_hdf5_error_printing();
+  const par::Hdf5Handle access = mpio_access_list(comm, path);
+  return {TEXSIM_HDF5_CALL(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), path.string()),
+          H5Fclose};
 }
 
-Hdf5Handle open_serial_file(const std::filesystem::path& path) {
-  silence_hdf5_errors();
-  return {TEXSIM_HDF5_CALL(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path), H5Fclose};
+par::Hdf5Handle open_serial_file(const std::filesystem::path& path) {
+  par::silence_hdf5_error_printing();
+  return {TEXSIM_HDF5_CALL(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path.string()),
+          H5Fclose};
 }
 
 } // namespace texsim::io

@@ -1,8 +1,8 @@
 #include "io/vtk_surface_writer.hpp"
 
 #include "core/error.hpp"
+#include "vtk/error_capture.hpp"
 
-#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -55,17 +55,10 @@ void add_fields(vtkDataSet& data, const SurfacePiece& piece) {
 }
 
 /// Configures `writer` for binary appended LZ4-compressed output, runs it, and turns a VTK
-/// error (reported through ErrorEvent instead of stderr) into texsim::Error.
+/// error (captured instead of printed to stderr) into texsim::Error.
 void run_writer(vtkXMLWriter& writer, const std::filesystem::path& path) {
-  std::string vtk_message;
-  vtkNew<vtkCallbackCommand> on_error;
-  on_error->SetClientData(&vtk_message);
-  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-    if (call)
-      *static_cast<std::string*>(client) = static_cast<const char*>(call);
-  });
-  writer.AddObserver(vtkCommand::ErrorEvent, on_error);
-  writer.AddObserver(vtkCommand::WarningEvent, on_error);
+  vtk::ErrorCapture capture;
+  capture.watch(&writer);
   writer.SetFileName(path.c_str());
   writer.SetDataModeToAppended();
   writer.EncodeAppendedDataOff();
@@ -75,7 +68,7 @@ void run_writer(vtkXMLWriter& writer, const std::filesystem::path& path) {
   writer.SetCompressor(compressor);
   const int ok = writer.Write();
   TEXSIM_VERIFY(ok == 1 && writer.GetErrorCode() == 0,
-                path.string() << ": cannot write VTK file (" << vtk_message << ")");
+                path.string() << ": cannot write VTK file (" << capture.errors() << ")");
 }
 
 } // namespace

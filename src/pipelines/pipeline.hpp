@@ -39,9 +39,10 @@ class Pipeline {
 public:
   virtual ~Pipeline() = default;
 
-  /// Reads and validates the pipeline's own section (the YAML key named after the pipeline).
-  /// Throws InputError naming the key path. Called on every rank; not collective.
-  virtual void configure(const ConfigSection& section) = 0;
+  /// Reads and validates the pipeline's own section (the YAML key named after the pipeline);
+  /// `run` holds the common settings (seed, output, ...). Throws InputError naming the key path.
+  /// Called on every rank; not collective.
+  virtual void configure(const ConfigSection& section, const RunSettings& run) = 0;
 
   /// Does the work. Collective over ctx.comm.
   virtual void run(RunContext& ctx) = 0;

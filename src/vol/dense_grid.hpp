@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <span>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -102,5 +103,8 @@ using ScalarGrid = DenseGrid<float>;
 using RgbGrid = DenseGrid<img::Rgb>;
 /// What a file reader found: a scalar or a colour grid.
 using AnyGrid = std::variant<ScalarGrid, RgbGrid>;
+
+/// Float components per voxel value as file formats store them: 1 for float, 3 for img::Rgb.
+template <class T> inline constexpr int voxel_components = std::is_same_v<T, img::Rgb> ? 3 : 1;
 
 } // namespace texsim::vol

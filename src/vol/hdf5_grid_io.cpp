@@ -1,6 +1,7 @@
 #include "vol/hdf5_grid_io.hpp"
 
-#include "vol/hdf5_check.hpp"
+#include "par/hdf5_call.hpp"
+#include "par/hdf5_handle.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,21 +10,14 @@
 namespace texsim::vol {
 namespace {
 
-constexpr int components_of(const float*) {
-  return 1;
-}
-constexpr int components_of(const img::Rgb*) {
-  return 3;
-}
-
 void write_vector_attribute(hid_t dataset, const char* name, const std::array<double, 3>& value,
                             const std::string& context) {
   const hsize_t n = 3;
-  Hdf5Handle space(TEXSIM_HDF5_CALL(H5Screate_simple(1, &n, nullptr), context), H5Sclose);
-  Hdf5Handle attribute(TEXSIM_HDF5_CALL(H5Acreate2(dataset, name, H5T_IEEE_F64LE, space.get(),
-                                                   H5P_DEFAULT, H5P_DEFAULT),
-                                        context << " attribute " << name),
-                       H5Aclose);
+  par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Screate_simple(1, &n, nullptr), context), H5Sclose);
+  par::Hdf5Handle attribute(TEXSIM_HDF5_CALL(H5Acreate2(dataset, name, H5T_IEEE_F64LE, space.get(),
+                                                        H5P_DEFAULT, H5P_DEFAULT),
+                                             context << " attribute " << name),
+                            H5Aclose);
   TEXSIM_HDF5_CALL(H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, value.data()),
                    context << " attribute " << name);
 }
@@ -35,8 +29,9 @@ std::array<double, 3> read_vector_attribute(hid_t dataset, const char* name,
   if (TEXSIM_HDF5_CALL(H5Aexists(dataset, name), context) == 0) {
     return fallback;
   }
-  Hdf5Handle attribute(TEXSIM_HDF5_CALL(H5Aopen(dataset, name, H5P_DEFAULT), context), H5Aclose);
-  Hdf5Handle space(TEXSIM_HDF5_CALL(H5Aget_space(attribute.get()), context), H5Sclose);
+  par::Hdf5Handle attribute(TEXSIM_HDF5_CALL(H5Aopen(dataset, name, H5P_DEFAULT), context),
+                            H5Aclose);
+  par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Aget_space(attribute.get()), context), H5Sclose);
   const hssize_t n = TEXSIM_HDF5_CALL(H5Sget_simple_extent_npoints(space.get()), context);
   if (n != 3) {
     TEXSIM_INPUT_ERROR(context << ": attribute '" << name << "' has " << n
@@ -51,22 +46,23 @@ std::array<double, 3> read_vector_attribute(hid_t dataset, const char* name,
 template <class T>
 void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
                 const std::string& dataset) {
-  silence_hdf5_error_printing();
+  par::silence_hdf5_error_printing();
   const std::string context = path.string() + ": dataset '" + dataset + "'";
   const Dims d = grid.dims();
-  const int components = components_of(static_cast<const T*>(nullptr));
+  const int components = voxel_components<T>;
   const std::array<hsize_t, 4> shape{static_cast<hsize_t>(d.nz), static_cast<hsize_t>(d.ny),
                                      static_cast<hsize_t>(d.nx), 3};
-  Hdf5Handle file(
+  par::Hdf5Handle file(
       TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), context),
       H5Fclose);
-  Hdf5Handle space(
+  par::Hdf5Handle space(
       TEXSIM_HDF5_CALL(H5Screate_simple(components == 1 ? 3 : 4, shape.data(), nullptr), context),
       H5Sclose);
-  Hdf5Handle data(TEXSIM_HDF5_CALL(H5Dcreate2(file.get(), dataset.c_str(), H5T_IEEE_F32LE,
-                                              space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                                   context),
-                  H5Dclose);
+  par::Hdf5Handle data(
+      TEXSIM_HDF5_CALL(H5Dcreate2(file.get(), dataset.c_str(), H5T_IEEE_F32LE, space.get(),
+                                  H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                       context),
+      H5Dclose);
   TEXSIM_HDF5_CALL(
       H5Dwrite(data.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, grid.data().data()),
       context);
@@ -88,8 +84,8 @@ std::vector<std::string> root_datasets(hid_t file, const std::string& context) {
                                         name.size(), H5P_DEFAULT),
                      context);
     name.resize(static_cast<std::size_t>(length));
-    Hdf5Handle object(TEXSIM_HDF5_CALL(H5Oopen(file, name.c_str(), H5P_DEFAULT), context),
-                      H5Oclose);
+    par::Hdf5Handle object(TEXSIM_HDF5_CALL(H5Oopen(file, name.c_str(), H5P_DEFAULT), context),
+                           H5Oclose);
     if (H5Iget_type(object.get()) == H5I_DATASET) {
       names.push_back(name);
     }
@@ -113,7 +109,7 @@ AnyGrid read_grid(const std::filesystem::path& path, const std::string& requeste
   if (TEXSIM_HDF5_CALL(H5Fis_hdf5(path.c_str()), file_context) == 0) {
     TEXSIM_INPUT_ERROR(path.string() << ": not an HDF5 file");
   }
-  Hdf5Handle file(
+  par::Hdf5Handle file(
       TEXSIM_HDF5_CALL(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), file_context), H5Fclose);
   const std::vector<std::string> datasets = root_datasets(file.get(), file_context);
   std::string listed;
@@ -128,15 +124,15 @@ AnyGrid read_grid(const std::filesystem::path& path, const std::string& requeste
                        << (listed.empty() ? "no datasets" : listed));
   }
   const std::string context = path.string() + ": dataset '" + name + "'";
-  Hdf5Handle data(TEXSIM_HDF5_CALL(H5Dopen2(file.get(), name.c_str(), H5P_DEFAULT), context),
-                  H5Dclose);
-  Hdf5Handle type(TEXSIM_HDF5_CALL(H5Dget_type(data.get()), context), H5Tclose);
+  par::Hdf5Handle data(TEXSIM_HDF5_CALL(H5Dopen2(file.get(), name.c_str(), H5P_DEFAULT), context),
+                       H5Dclose);
+  par::Hdf5Handle type(TEXSIM_HDF5_CALL(H5Dget_type(data.get()), context), H5Tclose);
   const H5T_class_t type_class = H5Tget_class(type.get());
   if (type_class != H5T_FLOAT && type_class != H5T_INTEGER) {
     TEXSIM_INPUT_ERROR(
         context << ": element type is not numeric, expected float or integer voxels");
   }
-  Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(data.get()), context), H5Sclose);
+  par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(data.get()), context), H5Sclose);
   const int rank = TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), context);
   std::array<hsize_t, 4> shape{};
   if (rank == 3 || rank == 4) {
@@ -168,7 +164,7 @@ void write_hdf5_grid(const std::filesystem::path& path, const RgbGrid& grid,
 }
 
 AnyGrid read_hdf5_grid(const std::filesystem::path& path, const std::string& dataset) {
-  silence_hdf5_error_printing();
+  par::silence_hdf5_error_printing();
   if (!std::filesystem::is_regular_file(path)) {
     TEXSIM_INPUT_ERROR(path.string() << ": HDF5 file not found");
   }

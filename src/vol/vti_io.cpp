@@ -1,6 +1,6 @@
 #include "vol/vti_io.hpp"
 
-#include "img/vtk_error_capture.hpp"
+#include "vtk/error_capture.hpp"
 
 #include <sstream>
 
@@ -15,12 +15,6 @@
 namespace texsim::vol {
 namespace {
 
-constexpr int components_of(const float*) {
-  return 1;
-}
-constexpr int components_of(const img::Rgb*) {
-  return 3;
-}
 float component(float v, int) {
   return v;
 }
@@ -32,7 +26,7 @@ template <class T>
 void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
                 const std::string& array_name) {
   const Dims dims = grid.dims();
-  const int components = components_of(static_cast<const T*>(nullptr));
+  const int components = voxel_components<T>;
   vtkNew<vtkImageData> image;
   image->SetDimensions(dims.nx, dims.ny, dims.nz);
   image->SetSpacing(grid.spacing().data());
@@ -48,7 +42,7 @@ void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
   }
   image->GetPointData()->AddArray(values);
 
-  img::VtkErrorCapture capture;
+  vtk::ErrorCapture capture;
   vtkNew<vtkXMLImageDataWriter> writer;
   capture.watch(writer);
   writer->SetFileName(path.c_str());
@@ -97,7 +91,7 @@ AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_nam
   if (!std::filesystem::is_regular_file(path)) {
     TEXSIM_INPUT_ERROR(path.string() << ": VTK image data file not found");
   }
-  img::VtkErrorCapture capture;
+  vtk::ErrorCapture capture;
   vtkNew<vtkXMLImageDataReader> reader;
   capture.watch(reader);
   capture.watch(reader->GetExecutive());

@@ -129,7 +129,7 @@ TEST(Cli, UnknownPipelineListsTheRegisteredOnes) {
   const auto config = write_file(dir / "p.yaml", "pipeline: warp_drive\n");
   const auto outcome = run(texsim() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
-  EXPECT_NE(outcome.output.find("pipeline: expected one of mesh_prep"), std::string::npos)
+  EXPECT_NE(outcome.output.find("pipeline: expected one of fem_rd, mesh_prep"), std::string::npos)
       << outcome.output;
 }
 

@@ -3,6 +3,7 @@
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
+#include "support/input_error.hpp"
 #include "support/test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -108,12 +109,7 @@ std::filesystem::path write_mesh(const TriangleMesh& mesh, const std::string& na
 }
 
 std::string message_of(const std::filesystem::path& path) {
-  try {
-    read_mesh(path);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no InputError";
+  return test::input_error_message([&] { read_mesh(path); });
 }
 
 TEST(MeshReader, EveryFormatRoundTrips) {

@@ -1,5 +1,6 @@
 #include "core/error.hpp"
 #include "geom/off_reader.hpp"
+#include "support/input_error.hpp"
 #include "support/test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -16,12 +17,7 @@ std::filesystem::path write(const std::string& name, const std::string& text) {
 }
 
 std::string message_of(const std::filesystem::path& path) {
-  try {
-    read_off(path);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no InputError";
+  return test::input_error_message([&] { read_off(path); });
 }
 
 TEST(OffReader, CommentsColoursAndPolygonsAreHandled) {

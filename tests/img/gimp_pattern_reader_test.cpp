@@ -1,56 +1,38 @@
 #include "img/gimp_pattern_reader.hpp"
 
+#include "support/input_error.hpp"
 #include "support/test_data.hpp"
+#include "support/test_files.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <fstream>
 #include <string>
 #include <vector>
 
 namespace texsim::img {
 namespace {
 
-using Bytes = std::vector<unsigned char>;
-
-void append_u32(Bytes& out, std::uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) {
-    out.push_back(static_cast<unsigned char>(v >> shift));
-  }
-}
+using test::append_u32_big_endian;
+using test::Bytes;
+using test::input_error_message;
+using test::write_bytes;
 
 /// A .pat file assembled field by field as GIMP lays it out.
 Bytes pattern_bytes(std::uint32_t width, std::uint32_t height, std::uint32_t bpp,
                     const std::string& name, const Bytes& pixels, std::uint32_t version = 1,
                     const std::string& magic = "GPAT") {
   Bytes out;
-  append_u32(out, static_cast<std::uint32_t>(24 + name.size() + 1));
-  append_u32(out, version);
-  append_u32(out, width);
-  append_u32(out, height);
-  append_u32(out, bpp);
+  append_u32_big_endian(out, static_cast<std::uint32_t>(24 + name.size() + 1));
+  append_u32_big_endian(out, version);
+  append_u32_big_endian(out, width);
+  append_u32_big_endian(out, height);
+  append_u32_big_endian(out, bpp);
   out.insert(out.end(), magic.begin(), magic.end());
   out.insert(out.end(), name.begin(), name.end());
   out.push_back(0);
   out.insert(out.end(), pixels.begin(), pixels.end());
   return out;
-}
-
-std::filesystem::path write(const std::filesystem::path& path, const Bytes& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-  return path;
-}
-
-template <class Fn> std::string input_error_message(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError thrown";
 }
 
 float unit(int v) {
@@ -62,7 +44,7 @@ TEST(GimpPatternReader, ReadsRgbPatternRowsTopToBottom) {
   // 3 x 2 pixels: row 0 = (10,20,30) (40,50,60) (70,80,90), row 1 = (1,2,3) (4,5,6) (7,8,9).
   const Bytes pixels = {10, 20, 30, 40, 50, 60, 70, 80, 90, 1, 2, 3, 4, 5, 6, 7, 8, 9};
   const GimpPattern pattern =
-      read_gimp_pattern(write(dir / "rgb.pat", pattern_bytes(3, 2, 3, "Wood grain", pixels)));
+      read_gimp_pattern(write_bytes(dir / "rgb.pat", pattern_bytes(3, 2, 3, "Wood grain", pixels)));
   EXPECT_EQ(pattern.name, "Wood grain");
   ASSERT_EQ(pattern.image.width(), 3);
   ASSERT_EQ(pattern.image.height(), 2);
@@ -74,17 +56,17 @@ TEST(GimpPatternReader, ReadsRgbPatternRowsTopToBottom) {
 TEST(GimpPatternReader, GreyAndAlphaVariants) {
   const auto dir = test::scratch_dir("img_gimp_variants");
   const GimpPattern grey =
-      read_gimp_pattern(write(dir / "g.pat", pattern_bytes(2, 1, 1, "g", {0, 255})));
+      read_gimp_pattern(write_bytes(dir / "g.pat", pattern_bytes(2, 1, 1, "g", {0, 255})));
   EXPECT_EQ(grey.image.at(0, 0), Rgb::grey(0.0f));
   EXPECT_EQ(grey.image.at(1, 0), Rgb::grey(1.0f));
 
   const GimpPattern grey_alpha =
-      read_gimp_pattern(write(dir / "ga.pat", pattern_bytes(2, 1, 2, "ga", {51, 7, 102, 9})));
+      read_gimp_pattern(write_bytes(dir / "ga.pat", pattern_bytes(2, 1, 2, "ga", {51, 7, 102, 9})));
   EXPECT_EQ(grey_alpha.image.at(0, 0), Rgb::grey(unit(51)));
   EXPECT_EQ(grey_alpha.image.at(1, 0), Rgb::grey(unit(102)));
 
   const GimpPattern rgba = read_gimp_pattern(
-      write(dir / "rgba.pat", pattern_bytes(1, 2, 4, "rgba", {1, 2, 3, 99, 4, 5, 6, 98})));
+      write_bytes(dir / "rgba.pat", pattern_bytes(1, 2, 4, "rgba", {1, 2, 3, 99, 4, 5, 6, 98})));
   EXPECT_EQ(rgba.image.at(0, 0), (Rgb{unit(1), unit(2), unit(3)}));
   EXPECT_EQ(rgba.image.at(0, 1), (Rgb{unit(4), unit(5), unit(6)}));
 }
@@ -92,25 +74,27 @@ TEST(GimpPatternReader, GreyAndAlphaVariants) {
 TEST(GimpPatternReader, MalformedFilesNameTheFileAndTheField) {
   const auto dir = test::scratch_dir("img_gimp_errors");
   const Bytes four(4, 0);
-  const auto magic = write(dir / "magic.pat", pattern_bytes(1, 1, 3, "m", {1, 2, 3}, 1, "GBRH"));
+  const auto magic =
+      write_bytes(dir / "magic.pat", pattern_bytes(1, 1, 3, "m", {1, 2, 3}, 1, "GBRH"));
   const std::string magic_error = input_error_message([&] { read_gimp_pattern(magic); });
   EXPECT_NE(magic_error.find(magic.string()), std::string::npos);
   EXPECT_NE(magic_error.find("magic"), std::string::npos);
 
-  const auto version = write(dir / "version.pat", pattern_bytes(1, 1, 3, "v", {1, 2, 3}, 2));
+  const auto version = write_bytes(dir / "version.pat", pattern_bytes(1, 1, 3, "v", {1, 2, 3}, 2));
   EXPECT_NE(input_error_message([&] { read_gimp_pattern(version); }).find("version"),
             std::string::npos);
 
-  const auto bpp = write(dir / "bpp.pat", pattern_bytes(1, 1, 5, "b", {1, 2, 3, 4, 5}));
+  const auto bpp = write_bytes(dir / "bpp.pat", pattern_bytes(1, 1, 5, "b", {1, 2, 3, 4, 5}));
   EXPECT_NE(input_error_message([&] { read_gimp_pattern(bpp); }).find("bytes per pixel"),
             std::string::npos);
 
-  const auto truncated = write(dir / "truncated.pat", pattern_bytes(4, 4, 3, "t", Bytes(47, 0)));
+  const auto truncated =
+      write_bytes(dir / "truncated.pat", pattern_bytes(4, 4, 3, "t", Bytes(47, 0)));
   const std::string truncated_error = input_error_message([&] { read_gimp_pattern(truncated); });
   EXPECT_NE(truncated_error.find(truncated.string()), std::string::npos);
   EXPECT_NE(truncated_error.find("48"), std::string::npos);
 
-  const auto tiny = write(dir / "tiny.pat", four);
+  const auto tiny = write_bytes(dir / "tiny.pat", four);
   EXPECT_NE(input_error_message([&] { read_gimp_pattern(tiny); }).find(tiny.string()),
             std::string::npos);
 

@@ -1,13 +1,14 @@
 #include "img/image_io.hpp"
 
 #include "core/rng.hpp"
+#include "support/input_error.hpp"
 #include "support/test_data.hpp"
+#include "support/test_files.hpp"
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstdint>
-#include <fstream>
 #include <vector>
 
 #include <vtkImageData.h>
@@ -19,13 +20,8 @@
 namespace texsim::img {
 namespace {
 
-using Bytes = std::vector<unsigned char>;
-
-void append_u32(Bytes& out, std::uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) {
-    out.push_back(static_cast<unsigned char>(v >> shift));
-  }
-}
+using test::append_u32_big_endian;
+using test::Bytes;
 
 std::uint32_t crc32(const Bytes& bytes, std::size_t begin) {
   std::uint32_t crc = 0xFFFFFFFFu;
@@ -39,11 +35,11 @@ std::uint32_t crc32(const Bytes& bytes, std::size_t begin) {
 }
 
 void append_chunk(Bytes& png, const char* type, const Bytes& payload) {
-  append_u32(png, static_cast<std::uint32_t>(payload.size()));
+  append_u32_big_endian(png, static_cast<std::uint32_t>(payload.size()));
   const std::size_t type_begin = png.size();
   png.insert(png.end(), type, type + 4);
   png.insert(png.end(), payload.begin(), payload.end());
-  append_u32(png, crc32(png, type_begin));
+  append_u32_big_endian(png, crc32(png, type_begin));
 }
 
 /// A 2 x 2 RGB PNG written byte by byte (zlib stored block, no compression), rows top to bottom:
@@ -51,8 +47,8 @@ void append_chunk(Bytes& png, const char* type, const Bytes& payload) {
 Bytes hand_written_png() {
   Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   Bytes header;
-  append_u32(header, 2);
-  append_u32(header, 2);
+  append_u32_big_endian(header, 2);
+  append_u32_big_endian(header, 2);
   header.insert(header.end(), {8, 2, 0, 0, 0}); // 8-bit RGB, no interlace
   append_chunk(png, "IHDR", header);
   const Bytes raw = {0, 255, 0, 0, 0, 255, 0, 0, 0, 0, 255, 255, 255, 255}; // filter byte per row
@@ -66,16 +62,10 @@ Bytes hand_written_png() {
     a = (a + c) % 65521;
     b = (b + a) % 65521;
   }
-  append_u32(zlib, (b << 16) | a);
+  append_u32_big_endian(zlib, (b << 16) | a);
   append_chunk(png, "IDAT", zlib);
   append_chunk(png, "IEND", {});
   return png;
-}
-
-void write_bytes(const std::filesystem::path& path, const Bytes& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
 }
 
 RgbImage random_image(int width, int height, std::uint64_t seed) {
@@ -89,18 +79,9 @@ RgbImage random_image(int width, int height, std::uint64_t seed) {
   return image;
 }
 
-template <class Fn> std::string input_error_message(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError thrown";
-}
-
 TEST(ImageIo, HandWrittenPngReadsWithRowZeroAtTheTop) {
   const auto path = test::scratch_dir("img_io_orientation") / "quad.png";
-  write_bytes(path, hand_written_png());
+  test::write_bytes(path, hand_written_png());
   const RgbImage image = read_image(path);
   ASSERT_EQ(image.width(), 2);
   ASSERT_EQ(image.height(), 2);
@@ -210,18 +191,18 @@ TEST(ImageIo, ReadsRealJpegWithWidthAndHeightInOrder) {
 TEST(ImageIo, MissingCorruptTruncatedAndUnknownFilesAreInputErrors) {
   const auto dir = test::scratch_dir("img_io_errors");
   const auto missing = dir / "missing.png";
-  EXPECT_NE(input_error_message([&] { read_image(missing); }).find(missing.string()),
+  EXPECT_NE(test::input_error_message([&] { read_image(missing); }).find(missing.string()),
             std::string::npos);
 
   const auto garbage = dir / "garbage.jpg";
-  write_bytes(garbage, Bytes(100, 'x'));
-  EXPECT_NE(input_error_message([&] { read_image(garbage); }).find(garbage.string()),
+  test::write_bytes(garbage, Bytes(100, 'x'));
+  EXPECT_NE(test::input_error_message([&] { read_image(garbage); }).find(garbage.string()),
             std::string::npos);
 
   const auto truncated = dir / "truncated.png";
   write_png(truncated, random_image(64, 64, 3));
   std::filesystem::resize_file(truncated, std::filesystem::file_size(truncated) / 2);
-  EXPECT_NE(input_error_message([&] { read_image(truncated); }).find(truncated.string()),
+  EXPECT_NE(test::input_error_message([&] { read_image(truncated); }).find(truncated.string()),
             std::string::npos);
 
   const auto jpeg = test::real_data("models/CWALL02.jpg");
@@ -229,14 +210,16 @@ TEST(ImageIo, MissingCorruptTruncatedAndUnknownFilesAreInputErrors) {
     const auto truncated_jpeg = dir / "truncated.jpg";
     std::filesystem::copy_file(jpeg, truncated_jpeg);
     std::filesystem::resize_file(truncated_jpeg, std::filesystem::file_size(jpeg) / 2);
-    EXPECT_NE(
-        input_error_message([&] { read_image(truncated_jpeg); }).find(truncated_jpeg.string()),
-        std::string::npos);
+    EXPECT_NE(test::input_error_message([&] {
+                read_image(truncated_jpeg);
+              }).find(truncated_jpeg.string()),
+              std::string::npos);
   }
 
   const auto unknown = dir / "picture.bmp";
-  write_bytes(unknown, Bytes(10, 0));
-  EXPECT_NE(input_error_message([&] { read_image(unknown); }).find(".bmp"), std::string::npos);
+  test::write_bytes(unknown, Bytes(10, 0));
+  EXPECT_NE(test::input_error_message([&] { read_image(unknown); }).find(".bmp"),
+            std::string::npos);
 }
 
 } // namespace

@@ -95,24 +95,28 @@ void expect_reference(const CheckpointReader& reader, const std::string& name, i
       << name << " differs bitwise";
 }
 
+/// Calls `visit.template operator()<T>(name, components)` for each dataset the tests store: every
+/// scalar type, with one and three components.
+template <class Visit> void for_all_types(Visit&& visit) {
+  visit.template operator()<double>("f64", 1);
+  visit.template operator()<double>("f64x3", 3);
+  visit.template operator()<float>("f32", 1);
+  visit.template operator()<std::int32_t>("i32", 1);
+  visit.template operator()<std::int64_t>("i64x3", 3);
+  visit.template operator()<std::uint8_t>("u8", 1);
+  visit.template operator()<std::uint64_t>("u64", 1);
+}
+
 void write_all_types(CheckpointWriter& writer, Block block) {
-  write_reference<double>(writer, "f64", 1, block);
-  write_reference<double>(writer, "f64x3", 3, block);
-  write_reference<float>(writer, "f32", 1, block);
-  write_reference<std::int32_t>(writer, "i32", 1, block);
-  write_reference<std::int64_t>(writer, "i64x3", 3, block);
-  write_reference<std::uint8_t>(writer, "u8", 1, block);
-  write_reference<std::uint64_t>(writer, "u64", 1, block);
+  for_all_types([&]<class T>(const std::string& name, int components) {
+    write_reference<T>(writer, name, components, block);
+  });
 }
 
 void expect_all_types(const CheckpointReader& reader, Block block) {
-  expect_reference<double>(reader, "f64", 1, block);
-  expect_reference<double>(reader, "f64x3", 3, block);
-  expect_reference<float>(reader, "f32", 1, block);
-  expect_reference<std::int32_t>(reader, "i32", 1, block);
-  expect_reference<std::int64_t>(reader, "i64x3", 3, block);
-  expect_reference<std::uint8_t>(reader, "u8", 1, block);
-  expect_reference<std::uint64_t>(reader, "u64", 1, block);
+  for_all_types([&]<class T>(const std::string& name, int components) {
+    expect_reference<T>(reader, name, components, block);
+  });
 }
 
 std::filesystem::path write_checkpoint(const CheckpointStore& store, std::int64_t step,

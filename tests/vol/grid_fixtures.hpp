@@ -2,6 +2,7 @@
 // Grids with every voxel distinct (and zeros, which sparse formats store as background), shared
 // by the vol file-format tests.
 #include "core/rng.hpp"
+#include "support/input_error.hpp"
 #include "vol/dense_grid.hpp"
 
 #include <string>
@@ -35,14 +36,7 @@ inline RgbGrid odd_rgb_grid(std::uint64_t seed) {
   return grid;
 }
 
-/// The message of the InputError `fn` throws, or a marker that none was thrown.
-template <class Fn> std::string input_error_message(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError thrown";
-}
+/// Shared by all layers' tests (support/input_error.hpp); the vol tests call it through here.
+using ::texsim::test::input_error_message;
 
 } // namespace texsim::vol::test

@@ -9,6 +9,7 @@
 #include "core/config.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -19,17 +20,17 @@ namespace texsim::pipelines::fem_rd {
 /// Per-vertex data a model may use: stable ids (for counter-based random numbers that do not depend
 /// on the partition) and positions (for user expressions of x, y, z).
 struct VertexData {
-  std::span<const std::int64_t> ids;    ///< id of each local vertex in the input mesh
-  std::span<const double> xyz;          ///< 3 coordinates per local vertex
+  std::span<const std::int64_t> ids; ///< id of each local vertex in the input mesh
+  std::span<const double> xyz;       ///< 3 coordinates per local vertex
   std::size_t size() const { return ids.size(); }
 };
 
 /// The coefficients of eq. (2) for one species at every local vertex, written by
 /// ReactionModel::coefficients().
 struct SpeciesCoefficients {
-  double diffusion = 1.0;       ///< C0 * C1 (a constant: the model's diffusion rate)
-  std::vector<double> linear;   ///< C2 at each vertex (treated implicitly)
-  std::vector<double> source;   ///< C3 at each vertex (treated explicitly)
+  double diffusion = 1.0;     ///< C0 * C1 (a constant: the model's diffusion rate)
+  std::vector<double> linear; ///< C2 at each vertex (treated implicitly)
+  std::vector<double> source; ///< C3 at each vertex (treated explicitly)
 };
 
 class ReactionModel {
@@ -49,7 +50,19 @@ public:
   virtual void coefficients(double t, const std::vector<std::span<const double>>& state,
                             const VertexData& vertices,
                             std::vector<SpeciesCoefficients>& out) const = 0;
+
+  /// Smallest value species s may take; the solver clamps to it after each step. Concentrations
+  /// of Turk's spot system stay non-negative this way (Turk 1991 clamps b at zero): without it
+  /// b < 0 turns the a-equation's decay into growth and the run blows up.
+  virtual double lower_bound(std::size_t species) const {
+    return -std::numeric_limits<double>::infinity();
+  }
 };
+
+/// Sizes `out` to `species` entries of `vertices` values each (used by every model's
+/// coefficients()).
+void resize_coefficients(std::vector<SpeciesCoefficients>& out, std::size_t species,
+                         std::size_t vertices);
 
 /// Reads `fem_rd.model` (its `type:` and parameters) and builds the model. `seed` keys the random
 /// per-vertex substrate (beta). Throws InputError naming the key for bad values or expressions.

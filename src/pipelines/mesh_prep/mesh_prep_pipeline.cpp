@@ -91,7 +91,7 @@ std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunConte
 
 } // namespace
 
-void MeshPrepPipeline::configure(const ConfigSection& section) {
+void MeshPrepPipeline::configure(const ConfigSection& section, const RunSettings&) {
   source_ = geom::read_mesh_source(section.section("input"));
 }
 

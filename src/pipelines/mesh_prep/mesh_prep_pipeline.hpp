@@ -14,7 +14,7 @@ namespace texsim::pipelines::mesh_prep {
 class MeshPrepPipeline : public Pipeline {
 public:
   /// Reads `mesh_prep.input` (see geom/mesh_source.hpp).
-  void configure(const ConfigSection& section) override;
+  void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
 
 private:

@@ -6,7 +6,7 @@
 
 #include <utility>
 
-namespace texsim::io {
+namespace texsim::par {
 
 class Hdf5Handle {
 public:
@@ -46,4 +46,4 @@ private:
   Closer closer_ = nullptr;
 };
 
-} // namespace texsim::io
+} // namespace texsim::par

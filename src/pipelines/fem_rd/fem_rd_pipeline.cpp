@@ -1,0 +1,179 @@
+#include "pipelines/fem_rd/fem_rd_pipeline.hpp"
+
+#include "core/log.hpp"
+#include "core/progress.hpp"
+#include "geom/mesh_measures.hpp"
+#include "geom/surface_roughness.hpp"
+#include "io/pvd_series.hpp"
+#include "par/collective.hpp"
+#include "pipelines/fem_rd/frame_writer.hpp"
+#include "pipelines/fem_rd/geometry_smoother.hpp"
+#include "pipelines/fem_rd/pattern_regions.hpp"
+#include "pipelines/fem_rd/state_checkpoint.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace texsim::pipelines::fem_rd {
+namespace {
+
+std::string frame_name(std::int64_t step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%09lld", static_cast<long long>(step));
+  return name;
+}
+
+/// Smoothing steps happen at the start of RD steps 0, every, 2*every, ... until `steps` are done.
+bool smooths_at(const FemRdSettings& settings, std::int64_t step) {
+  return settings.smoothing && step % settings.smoothing_every == 0 &&
+         step / settings.smoothing_every < settings.smoothing_steps;
+}
+
+struct SurfaceMeasures {
+  double area = 0;
+  double normal_deviation_deg = 0;
+};
+
+SurfaceMeasures measure(const geom::DistributedMesh& mesh) {
+  return {geom::total_area(mesh.mesh()),
+          geom::mean_normal_deviation_deg(mesh.mesh(), mesh.topology())};
+}
+
+} // namespace
+
+void FemRdPipeline::configure(const ConfigSection& section, const RunSettings& run) {
+  settings_ = read_fem_rd_settings(section);
+  model_ = make_reaction_model(section.section("model"), run.seed);
+}
+
+void FemRdPipeline::run(RunContext& ctx) {
+  const auto& comm = ctx.comm;
+  const auto& run = ctx.settings;
+  auto& report = ctx.report;
+
+  std::unique_ptr<geom::DistributedMesh> mesh;
+  {
+    auto stage = ctx.timers.scope("mesh");
+    geom::TriangleMesh surface;
+    par::run_collectively(comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed); });
+    mesh = std::make_unique<geom::DistributedMesh>(comm, surface, settings_.partition);
+    const auto& quality = mesh->quality();
+    report.metric("vertices", mesh->global_count());
+    report.metric("triangles", surface.num_triangles());
+    report.metric(
+        "partition",
+        {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "ptscotch"},
+         {"edge_cut", quality.edge_cut},
+         {"imbalance", quality.imbalance},
+         {"ghosts_max", quality.ghosts_max}});
+    log::info(log::cat("mesh: ", mesh->global_count(), " vertices, ", surface.num_triangles(),
+                       " triangles; partition edge cut ", quality.edge_cut, ", imbalance ",
+                       quality.imbalance));
+  }
+
+  const SurfaceMeasures initial_surface = measure(*mesh);
+  std::unique_ptr<ReactionDiffusionSolver> solver_owner;
+  std::unique_ptr<GeometrySmoother> smoother;
+  GeometryState geometry{mesh->mesh().positions, mesh->mesh().positions};
+  std::vector<double> initial_mass;
+  io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
+                            run.checkpoint_keep);
+  std::int64_t start = 0;
+  const auto pvd_path = run.output_dir / "fem_rd.pvd";
+  std::unique_ptr<io::PvdSeries> series;
+  {
+    auto stage = ctx.timers.scope("setup");
+    solver_owner = std::make_unique<ReactionDiffusionSolver>(comm, *mesh, *model_, settings_.rd);
+    if (settings_.smoothing)
+      smoother = std::make_unique<GeometrySmoother>(comm, *mesh, settings_.smoother);
+    for (std::size_t s = 0; s < solver_owner->species_count(); ++s)
+      initial_mass.push_back(solver_owner->integral(s));
+    if (run.restart) {
+      const auto found = store.resolve(*run.restart);
+      for (const auto& skipped : found.skipped)
+        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
+      const auto reader = store.open(found.path);
+      start = load_state(reader, *mesh, *solver_owner, geometry);
+      mesh->set_positions(geometry.matrix_positions);
+      solver_owner->rebuild_geometry();
+      mesh->set_positions(geometry.positions);
+      series = std::make_unique<io::PvdSeries>(
+          io::PvdSeries::resume(comm, pvd_path, double(start) * settings_.rd.dt));
+      log::info(log::cat("restarted from ", found.path.string(), " at step ", start));
+    } else {
+      series = std::make_unique<io::PvdSeries>(comm, pvd_path);
+    }
+  }
+  auto& solver = *solver_owner;
+  const auto write_output = [&](std::int64_t step) {
+    auto stage = ctx.timers.scope("output");
+    const auto frame =
+        write_frame(comm, *mesh, solver, run.output_dir / "frames", frame_name(step));
+    series->add(double(step) * settings_.rd.dt,
+                std::filesystem::relative(frame, run.output_dir).string());
+  };
+  if (start == 0)
+    write_output(0);
+
+  log::info(log::cat("fem_rd: ", settings_.steps - start, " steps of dt ", settings_.rd.dt,
+                     ", species ", solver.species_count(), ", solver ",
+                     solver.solver_description()));
+  Progress progress("fem_rd", settings_.steps, "steps");
+  for (std::int64_t step = start; step < settings_.steps; ++step) {
+    if (smooths_at(settings_, step)) {
+      auto stage = ctx.timers.scope("smoothing");
+      smoother->step();
+      geometry.positions = mesh->mesh().positions;
+    }
+    if (settings_.smoothing && step % settings_.rebuild_every == 0) {
+      auto stage = ctx.timers.scope("rebuild");
+      solver.rebuild_geometry();
+      geometry.matrix_positions = mesh->mesh().positions;
+    }
+    {
+      auto stage = ctx.timers.scope("rd_step");
+      solver.step(double(step) * settings_.rd.dt);
+    }
+    const std::int64_t done = step + 1;
+    if (done % run.output_every == 0 || done == settings_.steps)
+      write_output(done);
+    if (run.checkpoint_every > 0 && done % run.checkpoint_every == 0) {
+      auto stage = ctx.timers.scope("checkpoint");
+      save_state(store, done, *mesh, solver, geometry);
+    }
+    progress.update(done);
+  }
+  progress.finish();
+
+  auto finish = ctx.timers.scope("finish");
+  nlohmann::json species = nlohmann::json::object();
+  for (std::size_t s = 0; s < solver.species_count(); ++s) {
+    const auto& stats = solver.solve_stats(s);
+    const auto all = mesh->gather(comm, solver.local_values(s).first(mesh->owned_count()));
+    const auto regions = count_regions_above_mean(mesh->topology(), all);
+    species[solver.species_names()[s]] = {{"cg_iterations_mean", stats.mean_iterations()},
+                                          {"cg_iterations_max", stats.max_iterations},
+                                          {"final_residual", stats.last_residual},
+                                          {"initial_integral", initial_mass[s]},
+                                          {"final_integral", solver.integral(s)},
+                                          {"regions_above_mean", regions.regions},
+                                          {"min", *std::min_element(all.begin(), all.end())},
+                                          {"max", *std::max_element(all.begin(), all.end())}};
+  }
+  report.metric("species", species);
+  report.metric("steps", settings_.steps);
+  report.metric("solver", solver.solver_description());
+  if (smoother) {
+    const SurfaceMeasures final_surface = measure(*mesh);
+    report.metric("smoothing",
+                  {{"area_change_relative",
+                    (final_surface.area - initial_surface.area) / initial_surface.area},
+                   {"normal_deviation_deg_initial", initial_surface.normal_deviation_deg},
+                   {"normal_deviation_deg_final", final_surface.normal_deviation_deg},
+                   {"cg_iterations_mean", smoother->solve_stats().mean_iterations()},
+                   {"cg_iterations_max", smoother->solve_stats().max_iterations}});
+  }
+  report.output(pvd_path.string());
+}
+
+} // namespace texsim::pipelines::fem_rd

@@ -1,0 +1,27 @@
+#pragma once
+/// fem_rd: Galerkin FEM reaction-diffusion on a triangle surface coupled with feature-preserving
+/// geometric diffusion (Bajaj, Zhang, Xu), distributed with PETSc.
+///
+/// Stages: mesh (build, Loop-refine, perturb, partition), setup (matrices, initial state, or a
+/// checkpoint), steps (optional smoothing step of the surface, rebuild of the RD matrices on the
+/// moved surface every `rebuild_every` steps, one semi-implicit step of every species; frames every
+/// output.every steps and checkpoints every checkpoint.every steps), finish (metrics).
+#include "pipelines/fem_rd/fem_rd_settings.hpp"
+#include "pipelines/fem_rd/reaction_model.hpp"
+#include "pipelines/pipeline.hpp"
+
+#include <memory>
+
+namespace texsim::pipelines::fem_rd {
+
+class FemRdPipeline : public Pipeline {
+public:
+  void configure(const ConfigSection& section, const RunSettings& run) override;
+  void run(RunContext& ctx) override;
+
+private:
+  FemRdSettings settings_;
+  std::unique_ptr<ReactionModel> model_;
+};
+
+} // namespace texsim::pipelines::fem_rd

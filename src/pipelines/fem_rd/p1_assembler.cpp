@@ -1,0 +1,145 @@
+#include "pipelines/fem_rd/p1_assembler.hpp"
+
+#include "core/error.hpp"
+#include "par/petsc_session.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+
+namespace texsim::pipelines::fem_rd {
+namespace {
+
+// Gradients of the three barycentric (P1) functions of a triangle and its area.
+struct ElementGeometry {
+  std::array<Eigen::Vector3d, 3> gradient;
+  double area = 0;
+};
+
+ElementGeometry element_geometry(const geom::Vec3& x0, const geom::Vec3& x1, const geom::Vec3& x2) {
+  const std::array<geom::Vec3, 3> x{x0, x1, x2};
+  const geom::Vec3 normal = (x1 - x0).cross(x2 - x0);
+  const double twice_area = normal.norm();
+  TEXSIM_VERIFY(twice_area > 0, "degenerate triangle in FEM assembly");
+  const geom::Vec3 unit_normal = normal / twice_area;
+  ElementGeometry element;
+  element.area = 0.5 * twice_area;
+  for (int i = 0; i < 3; ++i) {
+    // grad phi_i is perpendicular to the opposite edge, pointing to vertex i, of length 1/height.
+    const geom::Vec3 opposite = x[(i + 2) % 3] - x[(i + 1) % 3];
+    element.gradient[i] = unit_normal.cross(opposite) / twice_area;
+  }
+  return element;
+}
+
+} // namespace
+
+P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
+  const auto& neighbors = mesh.topology().vertex_neighbors();
+  const std::int32_t begin = mesh.owned_begin();
+  row_offsets_.push_back(0);
+  for (std::int32_t v = begin; v < mesh.owned_end(); ++v) {
+    const auto row = neighbors.row(v);
+    const std::size_t start = columns_.size();
+    columns_.push_back(v);
+    columns_.insert(columns_.end(), row.begin(), row.end());
+    std::sort(columns_.begin() + std::ptrdiff_t(start), columns_.end());
+    row_offsets_.push_back(PetscInt(columns_.size()));
+  }
+  const auto slot = [&](std::int32_t row, std::int32_t column) -> std::int64_t {
+    if (row < begin || row >= mesh.owned_end())
+      return -1;
+    const auto first = columns_.begin() + row_offsets_[row - begin];
+    const auto last = columns_.begin() + row_offsets_[row - begin + 1];
+    return std::lower_bound(first, last, column) - columns_.begin();
+  };
+  for (const std::int32_t t : mesh.assembly_triangles()) {
+    const auto& tri = mesh.mesh().triangles[t];
+    std::array<std::int64_t, 9> entry{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        entry[3 * i + j] = slot(tri[i], tri[j]);
+    slots_.push_back(entry);
+  }
+}
+
+par::PetscMat P1Assembler::create_matrix(const par::Comm& comm) const {
+  par::PetscMat matrix;
+  const std::vector<double> zeros(columns_.size(), 0.0);
+  const PetscInt rows = mesh_.owned_count();
+  TEXSIM_PETSC_CALL(MatCreateMPIAIJWithArrays(comm.raw, rows, rows, PETSC_DETERMINE,
+                                              PETSC_DETERMINE, row_offsets_.data(), columns_.data(),
+                                              zeros.data(), matrix.address()));
+  TEXSIM_PETSC_CALL(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
+  return matrix;
+}
+
+void P1Assembler::set_values(Mat matrix, const std::vector<double>& values) const {
+  TEXSIM_VERIFY(values.size() == columns_.size(),
+                "set_values: " << values.size() << " values for " << columns_.size() << " slots");
+  const PetscInt rows = mesh_.owned_count();
+  TEXSIM_PETSC_CALL(MatUpdateMPIAIJWithArrays(matrix, rows, rows, PETSC_DETERMINE, PETSC_DETERMINE,
+                                              row_offsets_.data(), columns_.data(), values.data()));
+}
+
+std::vector<double> P1Assembler::mass_values(std::span<const double> weight, bool lumped) const {
+  std::vector<double> values(columns_.size(), 0.0);
+  const auto& mesh = mesh_.mesh();
+  const auto& triangles = mesh_.assembly_triangles();
+  for (std::size_t e = 0; e < triangles.size(); ++e) {
+    const auto& tri = mesh.triangles[triangles[e]];
+    const double area =
+        element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]])
+            .area;
+    std::array<double, 3> w{1.0, 1.0, 1.0};
+    if (!weight.empty())
+      for (int k = 0; k < 3; ++k)
+        w[k] = weight[mesh_.local_index(tri[k])];
+    const double sum = w[0] + w[1] + w[2];
+    for (int i = 0; i < 3; ++i) {
+      if (slots_[e][3 * i] < 0)
+        continue;
+      if (lumped) {
+        // Row sum of the consistent matrix: int w phi_i = A/12 (w_i + sum w).
+        values[slots_[e][3 * i + i]] += area / 12.0 * (w[i] + sum);
+        continue;
+      }
+      for (int j = 0; j < 3; ++j) {
+        // A/60 * sum_k w_k c_ijk with c = 6 (i=j=k), 2 (two equal), 1 (all different).
+        const double entry =
+            i == j ? area / 30.0 * (2.0 * w[i] + sum) : area / 60.0 * (w[i] + w[j] + sum);
+        values[slots_[e][3 * i + j]] += entry;
+      }
+    }
+  }
+  return values;
+}
+
+std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensors) const {
+  std::vector<double> values(columns_.size(), 0.0);
+  const auto& mesh = mesh_.mesh();
+  const auto& triangles = mesh_.assembly_triangles();
+  for (std::size_t e = 0; e < triangles.size(); ++e) {
+    const auto& tri = mesh.triangles[triangles[e]];
+    const auto element =
+        element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+    Eigen::Matrix3d mean_tensor = Eigen::Matrix3d::Identity();
+    if (!tensors.empty()) {
+      mean_tensor.setZero();
+      for (int k = 0; k < 3; ++k)
+        mean_tensor += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+            tensors.data() + 9 * mesh_.local_index(tri[k]));
+      mean_tensor /= 3.0;
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (slots_[e][3 * i] < 0)
+        continue;
+      const Eigen::Vector3d flux = mean_tensor * element.gradient[i];
+      for (int j = 0; j < 3; ++j)
+        values[slots_[e][3 * i + j]] += element.area * flux.dot(element.gradient[j]);
+    }
+  }
+  return values;
+}
+
+} // namespace texsim::pipelines::fem_rd

@@ -1,0 +1,28 @@
+#pragma once
+/// Saving and restoring the state of an fem_rd run: every species, the surface positions and the
+/// positions the RD matrices were last built on, keyed by the input mesh's vertex ids so that a
+/// checkpoint written at one rank count restarts at any other.
+#include "geom/distributed_mesh.hpp"
+#include "io/checkpoint_store.hpp"
+#include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
+
+#include <vector>
+
+namespace texsim::pipelines::fem_rd {
+
+struct GeometryState {
+  std::vector<geom::Vec3> positions;        ///< current surface, global order
+  std::vector<geom::Vec3> matrix_positions; ///< surface the RD matrices were built on
+};
+
+/// Writes checkpoint `step` (the state after `step` steps). Collective.
+void save_state(const io::CheckpointStore& store, std::int64_t step,
+                const geom::DistributedMesh& mesh, const ReactionDiffusionSolver& solver,
+                const GeometryState& geometry);
+
+/// Restores species values into `solver` and returns the step and the geometry. Throws
+/// InputError naming the file if its species or vertex count do not match this run. Collective.
+std::int64_t load_state(const io::CheckpointReader& reader, const geom::DistributedMesh& mesh,
+                        ReactionDiffusionSolver& solver, GeometryState& geometry);
+
+} // namespace texsim::pipelines::fem_rd
