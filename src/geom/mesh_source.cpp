@@ -44,6 +44,7 @@ MeshSource read_mesh_source(const ConfigSection& section) {
   source.box_size = Vec3(size[0], size[1], size[2]);
   source.box_cells_per_edge =
       section.get<int>("cells_per_edge", source.box_cells_per_edge, int_in_range(1, 4096));
+  source.scale = section.get<double>("scale", source.scale, positive());
   source.subdivision_levels =
       section.get<int>("subdivision_levels", source.subdivision_levels, int_in_range(0, 6));
   source.noise_amplitude =
@@ -70,6 +71,8 @@ TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
 
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, RepairReport* repairs) {
   TriangleMesh mesh = load_or_generate(source, repairs);
+  for (auto& position : mesh.positions)
+    position *= source.scale;
   if (source.subdivision_levels > 0)
     mesh = loop_subdivide(mesh, source.subdivision_levels);
   if (source.noise_amplitude > 0)

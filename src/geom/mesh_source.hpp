@@ -25,8 +25,9 @@ struct MeshSource {
   std::array<int, 2> torus_segments{48, 24};      ///< segments: around the axis, around the tube
   Vec3 box_size{1.0, 1.0, 1.0};                   ///< size (box)
   int box_cells_per_edge = 8;                     ///< cells_per_edge (box)
-  int subdivision_levels = 0;                     ///< subdivision_levels: Loop subdivision steps
-  double noise_amplitude = 0.0;                   ///< noise_amplitude: times the mean edge length
+  double scale = 1.0; ///< scale: factor on every coordinate (sets the pattern size of RD runs)
+  int subdivision_levels = 0;   ///< subdivision_levels: Loop subdivision steps
+  double noise_amplitude = 0.0; ///< noise_amplitude: times the mean edge length
 };
 
 /// Reads the section; exactly one of `file` and `generator` must be given, and a file must exist.
@@ -34,8 +35,8 @@ struct MeshSource {
 MeshSource read_mesh_source(const ConfigSection& section);
 
 /// Reads (with the documented repairs of geom::repair, reported through `repairs` when not null)
-/// or generates the mesh, refines it and perturbs it with noise keyed by `seed`. Serial; the same
-/// on every rank.
+/// or generates the mesh, scales it, refines it and perturbs it with noise keyed by `seed`. Serial;
+/// the same on every rank.
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed,
                         RepairReport* repairs = nullptr);
 
