@@ -93,6 +93,9 @@ void prepare_output_dir(const par::Comm& comm, const CommonConfig& common) {
                        "' already holds a run (summary.json or checkpoints/); choose another "
                        "directory, continue it with --restart, or set output.overwrite: true");
     std::error_code error;
+    // Overwriting a run starts it afresh: its checkpoints must not be restarted from or mixed in.
+    if (holds_run && common.overwrite_output && !common.run.restart)
+      std::filesystem::remove_all(dir / "checkpoints", error);
     std::filesystem::create_directories(dir, error);
     if (error)
       throw InputError("output.dir: cannot create '" + dir.string() + "': " + error.message());

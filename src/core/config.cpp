@@ -330,6 +330,7 @@ std::string ConfigDocument::result_hash() const {
   YAML::Node copy = YAML::Clone(root_);
   copy.remove("output");
   copy.remove("checkpoint");
+  copy.remove("petsc");
   YAML::Emitter out;
   out << copy;
   return hex64(fnv1a64(out.c_str()));

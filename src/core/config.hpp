@@ -104,8 +104,9 @@ public:
   /// The document as canonical YAML text (after overrides): what every rank parses.
   std::string emit() const;
 
-  /// Hash of the document without the sections that do not change results (`output`,
-  /// `checkpoint`): checkpoints from a run with another hash are refused.
+  /// Hash of the document without the sections that do not change the discrete problem
+  /// (`output`, `checkpoint`, and `petsc`, whose solver options change only how accurately it is
+  /// solved): checkpoints from a run with another hash are refused.
   std::string result_hash() const;
 
   const std::string& source() const { return source_; }

@@ -92,9 +92,11 @@ TEST(Config, OverridesCreateAndReplaceKeysAndAreValidatedTheSameWay) {
   EXPECT_NE(input_error_of([&] { document.set_override("novalue"); }), "no InputError");
 }
 
-TEST(Config, EmitRoundTripsAndHashIgnoresOutputSection) {
+TEST(Config, EmitRoundTripsAndHashIgnoresOutputCheckpointAndSolverOptions) {
   auto a = ConfigDocument::parse("x: 1\noutput: {dir: a}", "a.yaml");
-  auto b = ConfigDocument::parse("x: 1\noutput: {dir: b}", "b.yaml");
+  auto b = ConfigDocument::parse("x: 1\noutput: {dir: b}\ncheckpoint: {every: 5}\n"
+                                 "petsc: {ksp_rtol: 1e-12}",
+                                 "b.yaml");
   auto c = ConfigDocument::parse("x: 2\noutput: {dir: a}", "c.yaml");
   EXPECT_EQ(a.result_hash(), b.result_hash());
   EXPECT_NE(a.result_hash(), c.result_hash());
