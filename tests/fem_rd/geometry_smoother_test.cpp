@@ -1,5 +1,6 @@
 // Feature-preserving smoothing (eqs. 18-21): it removes noise from a sphere, and on a noisy box it
 // keeps the 90-degree edges that isotropic smoothing of the same duration rounds off.
+#include "core/rng.hpp"
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
@@ -112,6 +113,57 @@ TEST(GeometrySmoother, KeepsBoxEdgesSharpWhereIsotropicSmoothingRoundsThem) {
   EXPECT_LT(round, 45.0) << "noisy " << noisy_angle << ", anisotropic " << sharp;
   // And the faces were denoised, not left alone.
   EXPECT_LT(face_noise(box, kept) * 3, face_noise(box, noisy));
+}
+
+} // namespace
+} // namespace texsim::pipelines::fem_rd
+
+namespace texsim::pipelines::fem_rd {
+namespace {
+
+// Smooths a noisy step function on the unit sphere (1 above the equator, 0 below) and returns
+// the mean jump across the equator (over vertex pairs straddling it) and the noise left away
+// from it.
+std::pair<double, double> smoothed_step(double function_lambda, int steps) {
+  const par::Comm comm = par::world();
+  geom::DistributedMesh mesh(comm, geom::icosphere(4), geom::PartitionMethod::kMorton);
+  SmoothingOptions options;
+  options.dt = 2e-3;
+  options.function_lambda = function_lambda;
+  GeometrySmoother smoother(comm, mesh, options);
+  const CounterRng rng(3, 1);
+  std::vector<double> owned(mesh.owned_count());
+  for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
+    const std::int32_t g = mesh.owned_begin() + v;
+    owned[v] = (mesh.mesh().positions[g].z() > 0) + 0.1 * rng.uniform(-1, 1, mesh.input_id()[g], 0);
+  }
+  for (int n = 0; n < steps; ++n)
+    smoother.smooth_function(owned);
+  const auto f = mesh.gather(comm, owned);
+  double jump = 0, noise = 0;
+  int pairs = 0, far = 0;
+  for (const auto& edge : mesh.topology().edges()) {
+    const double za = mesh.mesh().positions[edge[0]].z(), zb = mesh.mesh().positions[edge[1]].z();
+    if ((za > 0) != (zb > 0)) {
+      jump += std::abs(f[edge[0]] - f[edge[1]]);
+      ++pairs;
+    } else if (std::min(std::abs(za), std::abs(zb)) > 0.3) {
+      noise += std::abs(f[edge[0]] - f[edge[1]]);
+      ++far;
+    }
+  }
+  return {jump / pairs, noise / far};
+}
+
+TEST(FunctionSmoothing, RemovesNoiseButKeepsTheStepThatIsotropicSmoothingBlurs) {
+  const auto [input_jump, input_noise] = smoothed_step(0.5, 0);
+  const auto [kept_jump, kept_noise] = smoothed_step(0.5, 10); // lambda below the step's slope
+  const auto [blurred_jump, blurred_noise] = smoothed_step(1e6, 10); // g = 1: isotropic
+  EXPECT_GT(input_jump, 0.9);
+  EXPECT_GT(kept_jump, 0.45) << "isotropic: " << blurred_jump;
+  EXPECT_LT(blurred_jump * 3, kept_jump);
+  EXPECT_LT(kept_noise * 2, input_noise);
+  EXPECT_LT(blurred_noise * 5, input_noise);
 }
 
 } // namespace

@@ -124,6 +124,13 @@ void FemRdPipeline::run(RunContext& ctx) {
       auto stage = ctx.timers.scope("smoothing");
       smoother->step();
       geometry.positions = mesh->mesh().positions;
+      if (settings_.smooth_functions)
+        for (std::size_t s = 0; s < solver.species_count(); ++s) {
+          const auto local = solver.local_values(s);
+          std::vector<double> owned(local.begin(), local.begin() + mesh->owned_count());
+          smoother->smooth_function(owned);
+          solver.set_owned_values(s, owned);
+        }
     }
     if (settings_.smoothing && step % settings_.rebuild_every == 0) {
       auto stage = ctx.timers.scope("rebuild");

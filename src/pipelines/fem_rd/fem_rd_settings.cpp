@@ -28,6 +28,9 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
       smoothing.get<bool>("damp_normal", smoother.feature.damp_normal_component);
   smoother.mu = smoothing.get<double>("mu", smoother.mu, in_range(0.0, 1.0));
   smoother.isotropic = smoothing.get<bool>("isotropic", smoother.isotropic);
+  settings.smooth_functions = smoothing.get<bool>("functions", settings.smooth_functions);
+  smoother.function_lambda =
+      smoothing.get<double>("function_lambda", smoother.function_lambda, positive());
   smoother.lumped_mass = settings.rd.lumped_mass;
   smoother.rtol = settings.rd.rtol;
   settings.smoothing_every = smoothing.get<int>("every", settings.smoothing_every, positive_int());

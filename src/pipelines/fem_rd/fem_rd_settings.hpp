@@ -12,13 +12,15 @@ struct FemRdSettings {
   geom::MeshSource mesh;                                              ///< fem_rd.mesh
   geom::PartitionMethod partition = geom::PartitionMethod::kPtScotch; ///< fem_rd.partition
   int steps = 1000;                                                   ///< fem_rd.time.steps
-  RdOptions rd;              ///< fem_rd.time.dt, fem_rd.mass, fem_rd.solver.rtol
-  bool smoothing = false;    ///< fem_rd.smoothing.enabled
-  SmoothingOptions smoother; ///< fem_rd.smoothing.{dt, lambda, alpha, beta, mu, isotropic}
-  int smoothing_every = 1;   ///< fem_rd.smoothing.every: RD steps per smoothing step
-  int smoothing_steps = 100; ///< fem_rd.smoothing.steps: smoothing steps in all
-  int rebuild_every = 10;    ///< fem_rd.smoothing.rebuild_every: RD steps between rebuilds of
-                             ///< the RD matrices on the moved surface
+  RdOptions rd; ///< fem_rd.time.dt, fem_rd.mass, fem_rd.solver.rtol
+  bool smoothing = false;
+  bool smooth_functions = false; ///< fem_rd.smoothing.functions: also smooth every species    ///<
+                                 ///< fem_rd.smoothing.enabled
+  SmoothingOptions smoother;     ///< fem_rd.smoothing.{dt, lambda, alpha, beta, mu, isotropic}
+  int smoothing_every = 1;       ///< fem_rd.smoothing.every: RD steps per smoothing step
+  int smoothing_steps = 100;     ///< fem_rd.smoothing.steps: smoothing steps in all
+  int rebuild_every = 10;        ///< fem_rd.smoothing.rebuild_every: RD steps between rebuilds of
+                                 ///< the RD matrices on the moved surface
 };
 
 /// Reads and validates the section; the model section is validated by building the model.
