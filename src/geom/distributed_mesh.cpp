@@ -6,6 +6,7 @@
 #include "par/petsc_session.hpp"
 
 #include <petscmat.h>
+#include <scotch/scotch.h>
 
 #include <algorithm>
 #include <numeric>
@@ -43,6 +44,10 @@ std::vector<int> ptscotch_parts(const par::Comm& comm, const TriangleMesh& mesh)
   par::PetscMat adjacency;
   TEXSIM_PETSC_CALL(
       MatCreateMPIAdj(comm.raw, last - first, n, ia, ja, nullptr, adjacency.address()));
+  // Scotch seeds its random generator from the clock unless told otherwise: a fixed seed makes
+  // the partition, and so the run, the same every time.
+  SCOTCH_randomSeed(1);
+  SCOTCH_randomReset();
   par::PetscMatPartitioning partitioning;
   TEXSIM_PETSC_CALL(MatPartitioningCreate(comm.raw, partitioning.address()));
   TEXSIM_PETSC_CALL(MatPartitioningSetAdjacency(partitioning, adjacency));
