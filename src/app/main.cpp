@@ -59,9 +59,9 @@ ConfiguredRun configure(const par::Comm& comm, const std::string& text, const Co
     auto document = ConfigDocument::parse(text, line.config_path);
     auto root = document.root();
     run.common = read_common_config(root);
-    run.common.run.config_hash = document.result_hash();
     run.common.run.restart = line.restart;
     run.pipeline = make_pipeline(run.common.pipeline);
+    run.common.run.config_hash = document.result_hash(run.pipeline->run_length_keys());
     run.pipeline->configure(root.section(run.common.pipeline), run.common.run);
     document.check_unknown_keys();
   });

@@ -326,11 +326,25 @@ std::string ConfigDocument::emit() const {
   return out.c_str();
 }
 
-std::string ConfigDocument::result_hash() const {
+std::string ConfigDocument::result_hash(const std::vector<std::string>& run_length_keys) const {
   YAML::Node copy = YAML::Clone(root_);
   copy.remove("output");
   copy.remove("checkpoint");
   copy.remove("petsc");
+  for (const auto& path : run_length_keys) {
+    std::vector<std::string> keys;
+    std::stringstream parts(path);
+    for (std::string key; std::getline(parts, key, '.');)
+      keys.push_back(key);
+    YAML::Node node;
+    node.reset(copy);
+    for (std::size_t i = 0; i + 1 < keys.size() && node.IsMap(); ++i) {
+      YAML::Node child = node[keys[i]];
+      node.reset(child);
+    }
+    if (node.IsMap())
+      node.remove(keys.back());
+  }
   YAML::Emitter out;
   out << copy;
   return hex64(fnv1a64(out.c_str()));

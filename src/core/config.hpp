@@ -106,8 +106,10 @@ public:
 
   /// Hash of the document without the sections that do not change the discrete problem
   /// (`output`, `checkpoint`, and `petsc`, whose solver options change only how accurately it is
-  /// solved): checkpoints from a run with another hash are refused.
-  std::string result_hash() const;
+  /// solved) and without `run_length_keys` (key paths such as "fem_rd.time.steps" that only say
+  /// when to stop, so a finished run can be continued): checkpoints from a run with another hash
+  /// are refused.
+  std::string result_hash(const std::vector<std::string>& run_length_keys = {}) const;
 
   const std::string& source() const { return source_; }
 

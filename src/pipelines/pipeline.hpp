@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace texsim::pipelines {
 
@@ -46,6 +47,10 @@ public:
 
   /// Does the work. Collective over ctx.comm.
   virtual void run(RunContext& ctx) = 0;
+
+  /// Config key paths that only say how long to run (e.g. "fem_rd.time.steps"): left out of the
+  /// config hash, so a finished run can be continued with --restart and a larger value.
+  virtual std::vector<std::string> run_length_keys() const { return {}; }
 };
 
 } // namespace texsim::pipelines

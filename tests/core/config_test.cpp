@@ -104,6 +104,16 @@ TEST(Config, EmitRoundTripsAndHashIgnoresOutputCheckpointAndSolverOptions) {
   EXPECT_EQ(again.result_hash(), a.result_hash());
 }
 
+TEST(Config, RunLengthKeysAreLeftOutOfTheHash) {
+  auto short_run = ConfigDocument::parse("p: {time: {steps: 10, dt: 0.5}}", "a.yaml");
+  auto long_run = ConfigDocument::parse("p: {time: {steps: 90, dt: 0.5}}", "b.yaml");
+  auto other_dt = ConfigDocument::parse("p: {time: {steps: 90, dt: 0.25}}", "c.yaml");
+  const std::vector<std::string> keys = {"p.time.steps"};
+  EXPECT_NE(short_run.result_hash(), long_run.result_hash());
+  EXPECT_EQ(short_run.result_hash(keys), long_run.result_hash(keys));
+  EXPECT_NE(long_run.result_hash(keys), other_dt.result_hash(keys));
+}
+
 TEST(Config, FreeFormMapsAreNotCheckedForUnknownKeys) {
   auto document = ConfigDocument::parse("petsc: {ksp_type: cg, ksp_rtol: 1e-9}", "t.yaml");
   const auto petsc = document.root().string_map("petsc");

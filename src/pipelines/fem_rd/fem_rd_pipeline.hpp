@@ -18,6 +18,7 @@ class FemRdPipeline : public Pipeline {
 public:
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
+  std::vector<std::string> run_length_keys() const override { return {"fem_rd.time.steps"}; }
 
 private:
   FemRdSettings settings_;
