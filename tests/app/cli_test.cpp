@@ -1,50 +1,24 @@
 // Runs the texsim binary as a user would and checks exit codes, messages and outputs.
 #include "app/command_line.hpp"
 #include "core/error.hpp"
+#include "support/run_command.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output; // stdout and stderr together
-};
+using texsim::test::run_command;
+using texsim::test::texsim_command;
+using texsim::test::texsim_under_mpirun;
 
-// Runs a shell command line; the environment is cleared of MPI launcher variables so texsim
-// starts as a fresh job.
-Outcome run(const std::string& command, const fs::path& working_dir = fs::current_path()) {
-  const std::string full = "cd " + working_dir.string() +
-                           " && env -u OMPI_COMM_WORLD_SIZE -u PMIX_RANK OMP_NUM_THREADS=1 " +
-                           command + " 2>&1";
-  Outcome outcome;
-  FILE* pipe = popen(full.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe))
-    outcome.output += buffer.data();
-  const int status = pclose(pipe);
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return outcome;
-}
-
-std::string texsim() {
-  return TEXSIM_BINARY_PATH;
-}
-std::string mpirun(int ranks) {
-  return std::string(TEXSIM_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " +
-         std::to_string(ranks) + " " + texsim();
-}
 fs::path source(const std::string& relative) {
   return fs::path(TEXSIM_SOURCE_DIR) / relative;
 }
@@ -62,10 +36,10 @@ fs::path write_file(const fs::path& path, const std::string& text) {
 }
 
 TEST(Cli, HelpAndVersion) {
-  const auto help = run(texsim() + " --help");
+  const auto help = run_command(texsim_command() + " --help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("usage:"), std::string::npos);
-  const auto version = run(texsim() + " --version");
+  const auto version = run_command(texsim_command() + " --version");
   EXPECT_EQ(version.exit_code, 0);
   for (const char* part : {"texsim ", "git ", "PETSc 3.", "HDF5 1.", "VTK 9.", "OpenVDB 10"})
     EXPECT_NE(version.output.find(part), std::string::npos) << part << " in " << version.output;
@@ -87,7 +61,7 @@ TEST(Cli, ParsesOwnOptionsAndPassesPetscOptionsOn) {
 }
 
 TEST(Cli, UnknownOptionIsAnInputErrorWithHint) {
-  const auto outcome = run(texsim() + " config.yaml --quite");
+  const auto outcome = run_command(texsim_command() + " config.yaml --quite");
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("unknown option --quite (did you mean --quiet?)"),
             std::string::npos)
@@ -95,7 +69,7 @@ TEST(Cli, UnknownOptionIsAnInputErrorWithHint) {
 }
 
 TEST(Cli, MissingConfigFileExitsTwoNamingTheFile) {
-  const auto outcome = run(mpirun(2) + " /nonexistent/run.yaml");
+  const auto outcome = run_command(texsim_under_mpirun(2) + " /nonexistent/run.yaml");
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("/nonexistent/run.yaml: cannot open config file"),
             std::string::npos)
@@ -105,7 +79,7 @@ TEST(Cli, MissingConfigFileExitsTwoNamingTheFile) {
 TEST(Cli, BadValueExitsTwoOnAllRanksWithOneMessage) {
   const auto dir = scratch("bad_value");
   const auto config = write_file(dir / "bad.yaml", "pipeline: mesh_prep\noutput: {every: -3}\n");
-  const auto outcome = run(mpirun(3) + " " + config.string());
+  const auto outcome = run_command(texsim_under_mpirun(3) + " " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
   const std::string expected = "output.every: expected a positive integer, got -3";
   const auto first = outcome.output.find(expected);
@@ -118,7 +92,7 @@ TEST(Cli, UnknownKeyGetsDidYouMean) {
   const auto dir = scratch("unknown_key");
   const auto config = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n"
                                                     "mesh_prep: {input: {generator: torus}}\n");
-  const auto outcome = run(texsim() + " validate " + config.string());
+  const auto outcome = run_command(texsim_command() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("unknown key 'seeed' (did you mean 'seed'?)"), std::string::npos)
       << outcome.output;
@@ -127,15 +101,15 @@ TEST(Cli, UnknownKeyGetsDidYouMean) {
 TEST(Cli, UnknownPipelineListsTheRegisteredOnes) {
   const auto dir = scratch("unknown_pipeline");
   const auto config = write_file(dir / "p.yaml", "pipeline: warp_drive\n");
-  const auto outcome = run(texsim() + " validate " + config.string());
+  const auto outcome = run_command(texsim_command() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("pipeline: expected one of fem_rd, mesh_prep"), std::string::npos)
       << outcome.output;
 }
 
 TEST(Cli, SetOverrideIsValidatedLikeTheFile) {
-  const auto outcome =
-      run(texsim() + " validate " + source("config/default.yaml").string() + " --set seed=-1");
+  const auto outcome = run_command(texsim_command() + " validate " +
+                                   source("config/default.yaml").string() + " --set seed=-1");
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_NE(outcome.output.find("seed: expected a non-negative integer, got -1"), std::string::npos)
       << outcome.output;
@@ -146,7 +120,8 @@ TEST(Cli, EveryShippedConfigValidates) {
   for (const auto& entry : fs::recursive_directory_iterator(source("config"))) {
     if (entry.path().extension() != ".yaml")
       continue;
-    const auto outcome = run(texsim() + " validate --quiet " + entry.path().string(), source(""));
+    const auto outcome =
+        run_command(texsim_command() + " validate --quiet " + entry.path().string(), source(""));
     if (outcome.exit_code == 2 && outcome.output.find("data/") != std::string::npos &&
         !fs::exists(source("data"))) {
       std::cout << "skipped " << entry.path() << ": data/ is absent (run scripts/fetch-data)\n";
@@ -161,12 +136,12 @@ TEST(Cli, EveryShippedConfigValidates) {
 TEST(Cli, RunRefusesToOverwriteAnotherRun) {
   const auto dir = scratch("overwrite");
   const auto out = dir / "out";
-  const std::string common = texsim() + " --quiet " +
+  const std::string common = texsim_command() + " --quiet " +
                              source("config/mesh_prep/smoke.yaml").string() +
                              " --set output.dir=" + out.string();
-  ASSERT_EQ(run(common).exit_code, 0);
+  ASSERT_EQ(run_command(common).exit_code, 0);
   const auto before = fs::last_write_time(out / "summary.json");
-  const auto second = run(common);
+  const auto second = run_command(common);
   EXPECT_EQ(second.exit_code, 2);
   EXPECT_NE(second.output.find("already holds a run"), std::string::npos) << second.output;
   EXPECT_EQ(fs::last_write_time(out / "summary.json"), before);
@@ -175,8 +150,9 @@ TEST(Cli, RunRefusesToOverwriteAnotherRun) {
 TEST(Cli, SmokeRunAtTwoRanksWritesSummaryAndParaViewFiles) {
   const auto dir = scratch("smoke");
   const auto out = dir / "out";
-  const auto outcome = run(mpirun(2) + " " + source("config/mesh_prep/smoke.yaml").string() +
-                           " --set output.dir=" + out.string());
+  const auto outcome =
+      run_command(texsim_under_mpirun(2) + " " + source("config/mesh_prep/smoke.yaml").string() +
+                  " --set output.dir=" + out.string());
   ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
   std::ifstream in(out / "summary.json");
   const auto summary = nlohmann::json::parse(in);

@@ -1,0 +1,218 @@
+// Restart equivalence through the binary, as a user does it: config/fem_rd/smoke.yaml (set to 40
+// steps with checkpoints at 20 and 40) runs uninterrupted into A; a copy of A loses its last
+// checkpoint and its summary.json (a job killed after the middle checkpoint) and is continued with
+// --restart. The final checkpoints must agree bit for bit at the same rank count and to solver
+// tolerance at another; a restart with a changed config must be refused. The texsim runs are child
+// jobs started with a clean environment (support/run_command.hpp); this program itself runs on one
+// rank.
+#include "io/checkpoint_store.hpp"
+#include "par/comm.hpp"
+#include "support/run_command.hpp"
+#include "support/test_data.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace texsim {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr std::int64_t kMiddleStep = 20; // checkpoint.every
+constexpr std::int64_t kFinalStep = 40;
+
+fs::path checkpoint_path(const fs::path& out, std::int64_t step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%09lld.h5", static_cast<long long>(step));
+  return out / "checkpoints" / name;
+}
+
+/// smoke.yaml with the smoothing running through step 29 and the RD matrices rebuilt every 7
+/// steps, so that the middle checkpoint falls inside the smoothing and between two rebuilds: the
+/// restart must restore both the surface and the one the matrices were built on. The Morton
+/// partition: PT-Scotch (the default) may partition the same mesh differently in two runs at the
+/// same rank count, and then two runs agree to solver tolerance only, not bit for bit.
+test::CommandOutcome run_smoke(int ranks, const fs::path& out, const std::string& options = "") {
+  return test::run_command(test::texsim_under_mpirun(ranks) + " " +
+                           (test::source_dir() / "config/fem_rd/smoke.yaml").string() +
+                           " --set fem_rd.time.steps=40 --set checkpoint.every=20"
+                           " --set fem_rd.partition=morton --set fem_rd.smoothing.steps=30"
+                           " --set fem_rd.smoothing.rebuild_every=7 --set output.dir=" +
+                           out.string() + " " + options);
+}
+
+nlohmann::json read_summary(const fs::path& out) {
+  std::ifstream in(out / "summary.json");
+  return nlohmann::json::parse(in);
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// A's state as a killed job leaves it after the middle checkpoint, in `copy`.
+void copy_killed_after_middle_checkpoint(const fs::path& run, const fs::path& copy) {
+  fs::copy(run, copy, fs::copy_options::recursive);
+  ASSERT_TRUE(fs::remove(checkpoint_path(copy, kFinalStep)));
+  ASSERT_TRUE(fs::remove(copy / "summary.json"));
+}
+
+/// The datasets of the newest checkpoint in `out`, opened and verified the way texsim does it.
+struct FinalState {
+  std::int64_t step = -1;
+  std::vector<std::int64_t> input_vertex_id;       ///< input id of each row
+  std::map<std::string, std::vector<double>> real; ///< species_*, positions, matrix_positions
+  std::map<std::string, int> components;
+};
+
+FinalState read_final_state(const fs::path& out) {
+  const auto hash = read_summary(out)["config_hash"].get<std::string>();
+  const io::CheckpointStore store(par::world(), out / "checkpoints", hash, 3);
+  const auto reader = store.open(store.resolve("latest").path);
+  FinalState state;
+  state.step = reader.step();
+  for (const auto& name : reader.dataset_names()) {
+    const auto rows = reader.global_count(name);
+    const int components = reader.components(name);
+    if (reader.type(name) == io::ScalarType::int64) {
+      EXPECT_EQ(name, "input_vertex_id");
+      state.input_vertex_id.resize(rows);
+      reader.read<std::int64_t>(name, state.input_vertex_id, 0, rows);
+      continue;
+    }
+    auto& values = state.real[name];
+    values.resize(rows * components);
+    reader.read<double>(name, values, 0, rows);
+    state.components[name] = components;
+  }
+  return state;
+}
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+/// Largest difference between `a` and `b` compared by input vertex id, relative to max |a|.
+double relative_difference(const FinalState& a, const FinalState& b, const std::string& name) {
+  const int c = a.components.at(name);
+  std::vector<std::size_t> row_in_b(b.input_vertex_id.size());
+  for (std::size_t row = 0; row < b.input_vertex_id.size(); ++row)
+    row_in_b.at(std::size_t(b.input_vertex_id[row])) = row;
+  const auto& va = a.real.at(name);
+  const auto& vb = b.real.at(name);
+  double scale = 0, difference = 0;
+  for (std::size_t row = 0; row < a.input_vertex_id.size(); ++row)
+    for (int k = 0; k < c; ++k) {
+      const double x = va[c * row + k];
+      const double y = vb[c * row_in_b[std::size_t(a.input_vertex_id[row])] + k];
+      scale = std::max(scale, std::abs(x));
+      difference = std::max(difference, std::abs(x - y));
+    }
+  return difference / scale;
+}
+
+int rd_step_calls(const nlohmann::json& summary) {
+  for (const auto& stage : summary["stages"])
+    if (stage["name"] == "rd_step")
+      return stage["calls"].get<int>();
+  return -1;
+}
+
+void expect_restarted_at_middle(const test::CommandOutcome& outcome, const fs::path& out) {
+  const std::string line = "restarted from " + checkpoint_path(out, kMiddleStep).string() +
+                           " at step " + std::to_string(kMiddleStep);
+  EXPECT_NE(outcome.output.find(line), std::string::npos) << outcome.output;
+  EXPECT_EQ(rd_step_calls(read_summary(out)), kFinalStep - kMiddleStep);
+}
+
+/// Runs A once for all tests; each test continues its own copy.
+class FemRdRestart : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = test::scratch_dir("fem_rd_restart");
+    uninterrupted_ = run_smoke(2, run_a(), "--quiet");
+  }
+  void SetUp() override {
+    ASSERT_EQ(uninterrupted_.exit_code, 0) << uninterrupted_.output;
+    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kMiddleStep)));
+    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kFinalStep)));
+  }
+  static fs::path run_a() { return dir_ / "a"; }
+  static fs::path dir() { return dir_; }
+
+private:
+  static inline fs::path dir_;
+  static inline test::CommandOutcome uninterrupted_;
+};
+
+TEST_F(FemRdRestart, AtTheSameRankCountEndsBitIdentical) {
+  const fs::path b = dir() / "b";
+  ASSERT_NO_FATAL_FAILURE(copy_killed_after_middle_checkpoint(run_a(), b));
+  const auto restarted = run_smoke(2, b, "--restart");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  expect_restarted_at_middle(restarted, b);
+
+  const FinalState a = read_final_state(run_a());
+  const FinalState r = read_final_state(b);
+  EXPECT_EQ(a.step, kFinalStep);
+  EXPECT_EQ(r.step, kFinalStep);
+  EXPECT_EQ(r.input_vertex_id, a.input_vertex_id);
+  ASSERT_EQ(a.real.size(), 4u) << "species_a, species_b, positions, matrix_positions";
+  for (const auto& [name, values] : a.real) {
+    ASSERT_TRUE(r.real.contains(name)) << name;
+    EXPECT_TRUE(same_bits(values, r.real.at(name)))
+        << name << " differs after the restart, by " << relative_difference(a, r, name)
+        << " relative to its largest value";
+  }
+  // The frame series continues where it stopped: the same entries as the uninterrupted run.
+  EXPECT_EQ(read_text(b / "fem_rd.pvd"), read_text(run_a() / "fem_rd.pvd"));
+}
+
+TEST_F(FemRdRestart, AtAnotherRankCountAgreesToSolverTolerance) {
+  const fs::path c = dir() / "c";
+  ASSERT_NO_FATAL_FAILURE(copy_killed_after_middle_checkpoint(run_a(), c));
+  const auto restarted = run_smoke(3, c, "--restart");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  expect_restarted_at_middle(restarted, c);
+
+  const FinalState a = read_final_state(run_a());
+  const FinalState r = read_final_state(c);
+  EXPECT_EQ(r.step, kFinalStep);
+  ASSERT_EQ(a.real.size(), 4u);
+  for (const auto& [name, values] : a.real) {
+    ASSERT_TRUE(r.real.contains(name)) << name;
+    EXPECT_LT(relative_difference(a, r, name), 1e-7) << name;
+  }
+}
+
+TEST_F(FemRdRestart, WithAnotherConfigIsRefusedNamingTheCheckpoint) {
+  const fs::path d = dir() / "d";
+  ASSERT_NO_FATAL_FAILURE(copy_killed_after_middle_checkpoint(run_a(), d));
+  const auto middle = checkpoint_path(d, kMiddleStep);
+  const auto written = fs::last_write_time(middle);
+  const auto refused = run_smoke(2, d, "--restart --set fem_rd.model.s=0.03");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find(middle.string() + ": written by a different configuration"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_EQ(fs::last_write_time(middle), written);
+  EXPECT_FALSE(fs::exists(d / "summary.json"));
+  EXPECT_FALSE(fs::exists(checkpoint_path(d, kFinalStep)));
+}
+
+} // namespace
+} // namespace texsim
