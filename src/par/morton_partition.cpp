@@ -31,8 +31,7 @@ std::uint64_t morton_key(const std::array<double, 3>& p, const std::array<double
   return key;
 }
 
-std::vector<int> morton_partition(const std::vector<std::array<double, 3>>& points, int parts) {
-  TEXSIM_VERIFY(parts > 0, "morton_partition: parts must be positive, got " << parts);
+std::vector<std::uint64_t> morton_keys(const std::vector<std::array<double, 3>>& points) {
   std::array<double, 3> lo{}, hi{};
   if (!points.empty()) {
     lo = hi = points.front();
@@ -45,6 +44,12 @@ std::vector<int> morton_partition(const std::vector<std::array<double, 3>>& poin
   std::vector<std::uint64_t> keys(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     keys[i] = morton_key(points[i], lo, hi);
+  return keys;
+}
+
+std::vector<int> morton_partition(const std::vector<std::array<double, 3>>& points, int parts) {
+  TEXSIM_VERIFY(parts > 0, "morton_partition: parts must be positive, got " << parts);
+  const auto keys = morton_keys(points);
   std::vector<std::size_t> order(points.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

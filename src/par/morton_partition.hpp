@@ -12,6 +12,9 @@ namespace texsim::par {
 std::uint64_t morton_key(const std::array<double, 3>& p, const std::array<double, 3>& lo,
                          const std::array<double, 3>& hi);
 
+/// The Morton key of every point inside the points' bounding box.
+std::vector<std::uint64_t> morton_keys(const std::vector<std::array<double, 3>>& points);
+
 /// part[i] in [0, parts) for each point i. Ties in the key are broken by index.
 std::vector<int> morton_partition(const std::vector<std::array<double, 3>>& points, int parts);
 

@@ -17,6 +17,7 @@ AnisotropicDiffusionStep::AnisotropicDiffusionStep(const par::Comm& comm,
 
 void AnisotropicDiffusionStep::assemble(const geom::DensityWeights& weights,
                                         std::span<const Eigen::Matrix3d> tensors, double dt) {
+  assembler_.update_geometry();
   const std::int32_t local_count = mesh_.local_count();
   std::vector<double> mass_weight(local_count), stiffness_tensor(9 * std::size_t(local_count));
   for (std::int32_t local = 0; local < local_count; ++local) {

@@ -60,6 +60,23 @@ P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
       for (int j = 0; j < 3; ++j)
         entry[3 * i + j] = slot(tri[i], tri[j]);
     slots_.push_back(entry);
+    corners_.push_back(
+        {mesh.local_index(tri[0]), mesh.local_index(tri[1]), mesh.local_index(tri[2])});
+  }
+  update_geometry();
+}
+
+void P1Assembler::update_geometry() {
+  const auto& mesh = mesh_.mesh();
+  const auto& triangles = mesh_.assembly_triangles();
+  areas_.resize(triangles.size());
+  gradients_.resize(triangles.size());
+  for (std::size_t e = 0; e < triangles.size(); ++e) {
+    const auto& tri = mesh.triangles[triangles[e]];
+    const auto element =
+        element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+    areas_[e] = element.area;
+    gradients_[e] = element.gradient;
   }
 }
 
@@ -84,17 +101,12 @@ void P1Assembler::set_values(Mat matrix, const std::vector<double>& values) cons
 
 std::vector<double> P1Assembler::mass_values(std::span<const double> weight, bool lumped) const {
   std::vector<double> values(columns_.size(), 0.0);
-  const auto& mesh = mesh_.mesh();
-  const auto& triangles = mesh_.assembly_triangles();
-  for (std::size_t e = 0; e < triangles.size(); ++e) {
-    const auto& tri = mesh.triangles[triangles[e]];
-    const double area =
-        element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]])
-            .area;
+  for (std::size_t e = 0; e < slots_.size(); ++e) {
+    const double area = areas_[e];
     std::array<double, 3> w{1.0, 1.0, 1.0};
     if (!weight.empty())
       for (int k = 0; k < 3; ++k)
-        w[k] = weight[mesh_.local_index(tri[k])];
+        w[k] = weight[corners_[e][k]];
     const double sum = w[0] + w[1] + w[2];
     for (int i = 0; i < 3; ++i) {
       if (slots_[e][3 * i] < 0)
@@ -117,26 +129,22 @@ std::vector<double> P1Assembler::mass_values(std::span<const double> weight, boo
 
 std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensors) const {
   std::vector<double> values(columns_.size(), 0.0);
-  const auto& mesh = mesh_.mesh();
-  const auto& triangles = mesh_.assembly_triangles();
-  for (std::size_t e = 0; e < triangles.size(); ++e) {
-    const auto& tri = mesh.triangles[triangles[e]];
-    const auto element =
-        element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+  for (std::size_t e = 0; e < slots_.size(); ++e) {
+    const auto& gradient = gradients_[e];
     Eigen::Matrix3d mean_tensor = Eigen::Matrix3d::Identity();
     if (!tensors.empty()) {
       mean_tensor.setZero();
       for (int k = 0; k < 3; ++k)
         mean_tensor += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-            tensors.data() + 9 * mesh_.local_index(tri[k]));
+            tensors.data() + 9 * std::size_t(corners_[e][k]));
       mean_tensor /= 3.0;
     }
     for (int i = 0; i < 3; ++i) {
       if (slots_[e][3 * i] < 0)
         continue;
-      const Eigen::Vector3d flux = mean_tensor * element.gradient[i];
+      const Eigen::Vector3d flux = mean_tensor * gradient[i];
       for (int j = 0; j < 3; ++j)
-        values[slots_[e][3 * i + j]] += element.area * flux.dot(element.gradient[j]);
+        values[slots_[e][3 * i + j]] += areas_[e] * flux.dot(gradient[j]);
     }
   }
   return values;

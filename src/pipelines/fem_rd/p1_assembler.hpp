@@ -22,14 +22,18 @@ namespace texsim::pipelines::fem_rd {
 
 class P1Assembler {
 public:
-  /// Builds the pattern of this rank's rows (the vertex and its neighbours). Not collective.
+  /// Builds the pattern of this rank's rows (the vertex and its neighbours) and the element
+  /// geometry of the mesh's current positions. Not collective.
   explicit P1Assembler(const geom::DistributedMesh& mesh);
+
+  /// Recomputes the element geometry (areas, gradients) after the mesh moved.
+  void update_geometry();
 
   /// A MATMPIAIJ matrix with this pattern and zero values. Collective.
   par::PetscMat create_matrix(const par::Comm& comm) const;
 
   /// Values (in pattern order) of the mass matrix with per-vertex weight `weight` (empty: 1);
-  /// `lumped` puts each row sum on the diagonal. Uses the mesh's current positions.
+  /// `lumped` puts each row sum on the diagonal. Uses the geometry of the last update.
   std::vector<double> mass_values(std::span<const double> weight, bool lumped) const;
 
   /// Values of the stiffness matrix with per-vertex symmetric tensors (9 per local vertex,
@@ -49,6 +53,11 @@ private:
   /// For each assembly triangle: slot of entry (corner i, corner j) in the values, or -1 when
   /// corner i's row is not owned here.
   std::vector<std::array<std::int64_t, 9>> slots_;
+  /// For each assembly triangle: local indices of its corners (for coefficient arrays).
+  std::vector<std::array<std::int32_t, 3>> corners_;
+  /// For each assembly triangle: area and the gradients of its three P1 functions.
+  std::vector<double> areas_;
+  std::vector<std::array<Eigen::Vector3d, 3>> gradients_;
 };
 
 } // namespace texsim::pipelines::fem_rd

@@ -47,6 +47,7 @@ void ReactionDiffusionSolver::refresh_vertex_data() {
 
 void ReactionDiffusionSolver::rebuild_geometry() {
   refresh_vertex_data();
+  assembler_.update_geometry();
   assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
   stiffness_ = assembler_.stiffness_values({});
 }
