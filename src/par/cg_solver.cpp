@@ -7,19 +7,31 @@
 
 namespace texsim::par {
 
-CgSolver::CgSolver(const Comm& comm, double rtol) {
+namespace {
+// Sets a PETSc option unless the user gave it on the command line or under `petsc:`.
+void default_option(const char* name, const char* value) {
+  PetscBool given = PETSC_FALSE;
+  TEXSIM_PETSC_CALL(PetscOptionsHasName(nullptr, nullptr, name, &given));
+  if (!given)
+    TEXSIM_PETSC_CALL(PetscOptionsSetValue(nullptr, name, value));
+}
+} // namespace
+
+CgSolver::CgSolver(const Comm& comm, double rtol, Preconditioner preconditioner) {
   TEXSIM_PETSC_CALL(KSPCreate(comm.raw, ksp_.address()));
   TEXSIM_PETSC_CALL(KSPSetType(ksp_, KSPCG));
   TEXSIM_PETSC_CALL(KSPSetTolerances(ksp_, rtol, 1e-50, PETSC_DEFAULT, 10000));
   TEXSIM_PETSC_CALL(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   PC pc = nullptr;
   TEXSIM_PETSC_CALL(KSPGetPC(ksp_, &pc));
-  TEXSIM_PETSC_CALL(PCSetType(pc, PCBJACOBI));
-  // Sub-solver options are read when the PC is set up; only set them if the user did not.
-  PetscBool user_sub_pc = PETSC_FALSE;
-  TEXSIM_PETSC_CALL(PetscOptionsHasName(nullptr, nullptr, "-sub_pc_type", &user_sub_pc));
-  if (!user_sub_pc)
-    TEXSIM_PETSC_CALL(PetscOptionsSetValue(nullptr, "-sub_pc_type", "icc"));
+  if (preconditioner == Preconditioner::kJacobi) {
+    TEXSIM_PETSC_CALL(PCSetType(pc, PCJACOBI));
+  } else {
+    TEXSIM_PETSC_CALL(PCSetType(pc, PCBJACOBI));
+    // The block solvers read their options when the PC is set up.
+    default_option("-sub_pc_type", "icc");
+    default_option("-sub_pc_factor_mat_ordering_type", "rcm");
+  }
   TEXSIM_PETSC_CALL(KSPSetFromOptions(ksp_));
 }
 

@@ -17,7 +17,8 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
   mass_ = assembler_.create_matrix(comm);
   for (std::size_t s = 0; s < names_.size(); ++s) {
     fields_.push_back(std::make_unique<GhostedField>(comm, mesh));
-    solvers_.push_back(std::make_unique<par::CgSolver>(comm, options.rtol));
+    solvers_.push_back(
+        std::make_unique<par::CgSolver>(comm, options.rtol, par::Preconditioner::kJacobi));
     systems_.push_back(assembler_.create_matrix(comm));
   }
   TEXSIM_PETSC_CALL(MatCreateVecs(mass_, ones_.address(), rhs_.address()));
