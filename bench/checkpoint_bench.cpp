@@ -3,6 +3,7 @@
 // bytes to the same directory (what the file system gives without HDF5 or verification).
 // Prints one JSON object with medians over --repeats runs.
 // Sample run: mpirun -n 2 build/release/bench/checkpoint_bench --mb 256 --repeats 5 --dir /tmp/b
+#include "bench_timing.hpp"
 #include "io/checkpoint_store.hpp"
 #include "par/petsc_session.hpp"
 
@@ -19,18 +20,8 @@
 namespace {
 using texsim::par::Comm;
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
-
-double timed(const Comm& comm, const std::function<void()>& work) {
-  MPI_Barrier(comm.raw);
-  const double start = MPI_Wtime();
-  work();
-  MPI_Barrier(comm.raw);
-  return MPI_Wtime() - start;
-}
+using texsim::bench::median;
+using texsim::bench::timed;
 } // namespace
 
 int main(int argc, char** argv) {

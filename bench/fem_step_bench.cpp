@@ -9,6 +9,7 @@
 // The benchmark sets -pc_type and -sub_pc_factor_mat_ordering_type itself, per variant.
 // Sample run:
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/fem_step_bench --level 7 --repeats 5
+#include "bench_timing.hpp"
 #include "core/config.hpp"
 #include "geom/distributed_mesh.hpp"
 #include "geom/generators.hpp"
@@ -53,18 +54,8 @@ struct BenchSettings {
 // The Turing spots model of Fig. 3 (c) of Bajaj, Zhang, Xu (s = 0.05), as the pipeline builds it.
 constexpr const char* kTuringYaml = "type: turing_spots\ns: 0.05\n";
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
-
-double timed(const Comm& comm, const std::function<void()>& work) {
-  MPI_Barrier(comm.raw);
-  const double start = MPI_Wtime();
-  work();
-  MPI_Barrier(comm.raw);
-  return MPI_Wtime() - start;
-}
+using texsim::bench::median;
+using texsim::bench::timed;
 
 std::vector<double> repeated_times(const Comm& comm, int repeats,
                                    const std::function<void()>& work) {

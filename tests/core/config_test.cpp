@@ -1,4 +1,5 @@
 #include "core/config.hpp"
+#include "support/input_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,15 +7,6 @@
 
 namespace texsim {
 namespace {
-
-std::string input_error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError";
-}
 
 TEST(Config, ReadsTypedValuesAndDefaults) {
   auto document = ConfigDocument::parse("a: 1.5\nb: {c: 3, d: [1, 2, 3]}\nname: x\n", "t.yaml");
@@ -30,24 +22,24 @@ TEST(Config, ReadsTypedValuesAndDefaults) {
 TEST(Config, ErrorNamesKeyPathExpectationAndValue) {
   auto document = ConfigDocument::parse("fem_rd: {time: {dt: -0.1}}", "t.yaml");
   const auto time = document.root().section("fem_rd").section("time");
-  EXPECT_EQ(input_error_of([&] { time.get<double>("dt", 1.0, positive()); }),
+  EXPECT_EQ(test::input_error_message([&] { time.get<double>("dt", 1.0, positive()); }),
             "fem_rd.time.dt: expected a positive number, got -0.1");
 }
 
 TEST(Config, WrongTypeIsAnError) {
   auto document = ConfigDocument::parse("steps: ten\nlevel: 2.5\nflag: maybe", "t.yaml");
   auto root = document.root();
-  EXPECT_EQ(input_error_of([&] { root.get<int>("steps", 1); }),
+  EXPECT_EQ(test::input_error_message([&] { root.get<int>("steps", 1); }),
             "steps: expected an integer, got ten");
-  EXPECT_EQ(input_error_of([&] { root.get<int>("level", 1); }),
+  EXPECT_EQ(test::input_error_message([&] { root.get<int>("level", 1); }),
             "level: expected an integer, got 2.5");
-  EXPECT_EQ(input_error_of([&] { root.get<bool>("flag", false); }),
+  EXPECT_EQ(test::input_error_message([&] { root.get<bool>("flag", false); }),
             "flag: expected true or false, got maybe");
 }
 
 TEST(Config, MissingRequiredKey) {
   auto document = ConfigDocument::parse("{}", "t.yaml");
-  EXPECT_EQ(input_error_of([&] { document.root().require<std::string>("pipeline"); }),
+  EXPECT_EQ(test::input_error_message([&] { document.root().require<std::string>("pipeline"); }),
             "pipeline: expected a string (required key is missing), got nothing");
 }
 
@@ -56,14 +48,14 @@ TEST(Config, UnknownKeySuggestsNearestKnownKey) {
   const auto solver = document.root().section("solver");
   solver.get<double>("tolerance", 1e-6);
   solver.get<int>("max_iterations", 100);
-  EXPECT_EQ(input_error_of([&] { document.check_unknown_keys(); }),
+  EXPECT_EQ(test::input_error_message([&] { document.check_unknown_keys(); }),
             "run.yaml: unknown key 'solver.max_iters' (did you mean 'solver.max_iterations'?)");
 }
 
 TEST(Config, UnknownKeyWithoutCloseMatchListsKnownKeys) {
   auto document = ConfigDocument::parse("alpha: 1\nzzzzzz: 2", "run.yaml");
   document.root().get<int>("alpha", 0);
-  EXPECT_EQ(input_error_of([&] { document.check_unknown_keys(); }),
+  EXPECT_EQ(test::input_error_message([&] { document.check_unknown_keys(); }),
             "run.yaml: unknown key 'zzzzzz'; known keys here: alpha");
 }
 
@@ -74,7 +66,7 @@ TEST(Config, ChoiceMapsStringsToEnums) {
   const std::vector<std::pair<std::string, Model>> options = {{"spots", Model::kSpots},
                                                               {"stripes", Model::kStripes}};
   EXPECT_EQ(root.choice("model", Model::kSpots, options), Model::kStripes);
-  EXPECT_EQ(input_error_of([&] { root.choice("bad", Model::kSpots, options); }),
+  EXPECT_EQ(test::input_error_message([&] { root.choice("bad", Model::kSpots, options); }),
             "bad: expected one of spots, stripes, got waves");
 }
 
@@ -86,10 +78,11 @@ TEST(Config, OverridesCreateAndReplaceKeysAndAreValidatedTheSameWay) {
   EXPECT_DOUBLE_EQ(root.section("time").get<double>("dt", 0.0, positive()), 0.25);
   EXPECT_EQ(root.section("output").get<std::string>("dir", ""), "/tmp/x");
   document.set_override("time.dt=-1");
-  EXPECT_EQ(
-      input_error_of([&] { document.root().section("time").get<double>("dt", 0.0, positive()); }),
-      "time.dt: expected a positive number, got -1");
-  EXPECT_NE(input_error_of([&] { document.set_override("novalue"); }), "no InputError");
+  EXPECT_EQ(test::input_error_message(
+                [&] { document.root().section("time").get<double>("dt", 0.0, positive()); }),
+            "time.dt: expected a positive number, got -1");
+  EXPECT_NE(test::input_error_message([&] { document.set_override("novalue"); }),
+            "no InputError thrown");
 }
 
 TEST(Config, EmitRoundTripsAndHashIgnoresOutputCheckpointAndSolverOptions) {
@@ -123,11 +116,11 @@ TEST(Config, FreeFormMapsAreNotCheckedForUnknownKeys) {
 }
 
 TEST(Config, BadYamlAndMissingFileNameTheSource) {
-  EXPECT_NE(input_error_of([] {
+  EXPECT_NE(test::input_error_message([] {
               ConfigDocument::parse("a: [1, 2", "broken.yaml");
             }).find("broken.yaml: not valid YAML"),
             std::string::npos);
-  EXPECT_NE(input_error_of([] {
+  EXPECT_NE(test::input_error_message([] {
               ConfigDocument::load("/nonexistent/x.yaml");
             }).find("/nonexistent/x.yaml: cannot open"),
             std::string::npos);

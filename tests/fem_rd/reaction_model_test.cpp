@@ -1,4 +1,5 @@
 #include "pipelines/fem_rd/reaction_model.hpp"
+#include "support/input_error.hpp"
 
 #include "core/config.hpp"
 #include "pipelines/fem_rd/random_substrate.hpp"
@@ -53,15 +54,6 @@ std::vector<SpeciesCoefficients> coefficients_of(const ReactionModel& model, con
   std::vector<SpeciesCoefficients> out;
   model.coefficients(t, f.spans(), f.vertices(), out);
   return out;
-}
-
-std::string input_error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError";
 }
 
 void expect_close(double value, double reference) {
@@ -324,41 +316,45 @@ TEST(Expression, PositionTimeNoiseAndSpeciesOrder) {
 TEST(Expression, ErrorsNameTheKeyPath) {
   const std::string head = "{type: expression, constants: {s: 0.05}, species: {a: {diffusion: "
                            "0.1, initial: \"4\"}, b: {diffusion: 0.1, initial: \"4\", ";
-  EXPECT_EQ(input_error_of([&] { build(head + "source: \"s*(a*b-\"}}}"); })
+  EXPECT_EQ(test::input_error_message([&] { build(head + "source: \"s*(a*b-\"}}}"); })
                 .rfind("fem_rd.model.species.b.source: cannot parse \"s*(a*b-\": Unexpected end of "
                        "expression at position ",
                        0),
             0u)
-      << input_error_of([&] { build(head + "source: \"s*(a*b-\"}}}"); });
-  const std::string unknown = input_error_of([&] { build(head + "linear: \"q*a\"}}}"); });
+      << test::input_error_message([&] { build(head + "source: \"s*(a*b-\"}}}"); });
+  const std::string unknown =
+      test::input_error_message([&] { build(head + "linear: \"q*a\"}}}"); });
   EXPECT_EQ(unknown.rfind("fem_rd.model.species.b.linear: cannot parse \"q*a\": ", 0), 0u)
       << unknown;
   EXPECT_NE(unknown.find("\"q\""), std::string::npos) << unknown;
   // Species values are not defined at t = 0.
-  EXPECT_EQ(input_error_of([&] {
+  EXPECT_EQ(test::input_error_message([&] {
               build("{type: expression, species: {a: {diffusion: 1, initial: \"a + 1\"}}}");
             }).rfind("fem_rd.model.species.a.initial: cannot parse \"a + 1\"", 0),
             0u);
-  EXPECT_EQ(input_error_of([&] {
+  EXPECT_EQ(test::input_error_message([&] {
               build("{type: expression, species: {x: {diffusion: 1, initial: \"1\"}}}");
             }).rfind("fem_rd.model.species.x: the name 'x' is already used", 0),
             0u);
-  EXPECT_EQ(input_error_of([&] {
+  EXPECT_EQ(test::input_error_message([&] {
               build("{type: expression, constants: {s: fast}, species: {a: {diffusion: 1, "
                     "initial: \"1\"}}}");
             }).rfind("fem_rd.model.constants.s: expected a number", 0),
             0u);
-  EXPECT_EQ(input_error_of([&] { build("{type: expression}"); }).rfind("fem_rd.model.species:", 0),
+  EXPECT_EQ(test::input_error_message([&] {
+              build("{type: expression}");
+            }).rfind("fem_rd.model.species:", 0),
             0u);
-  EXPECT_EQ(input_error_of([&] {
+  EXPECT_EQ(test::input_error_message([&] {
               build("{type: expression, species: {a: {diffusion: -1, initial: \"1\"}}}");
             }).rfind("fem_rd.model.species.a.diffusion: expected a number >= 0", 0),
             0u);
 }
 
 TEST(Factory, ReadsOnlyTheChosenModelsKeys) {
-  EXPECT_NE(input_error_of([] { build("{type: gray_scott}"); }).find("fem_rd.model.type"),
-            std::string::npos);
+  EXPECT_NE(
+      test::input_error_message([] { build("{type: gray_scott}"); }).find("fem_rd.model.type"),
+      std::string::npos);
   // Every key of each model is known to the config layer ...
   EXPECT_NO_THROW(build("{type: turing_spots, s: 0.025, beta: 12, beta_spread: 0.1, "
                         "diffusion_a: 0.125, diffusion_b: 0.03125, initial_a: 4, initial_b: 4}"));
@@ -367,11 +363,13 @@ TEST(Factory, ReadsOnlyTheChosenModelsKeys) {
   EXPECT_NO_THROW(build("{type: forced_oscillator, c: 0.5, d: 1.5, gamma: 0.1, omega_f: 1.69, "
                         "delta: 0, beta_spread: 0.1}"));
   // ... and another model's key is not.
-  EXPECT_NE(input_error_of([] {
+  EXPECT_NE(test::input_error_message([] {
               build("{type: turing_spots, gamma: 0.1}");
             }).find("unknown key 'fem_rd.model.gamma'"),
             std::string::npos);
-  EXPECT_NE(input_error_of([] { build("{type: turing_spots, s: -1}"); }).find("fem_rd.model.s:"),
+  EXPECT_NE(test::input_error_message([] {
+              build("{type: turing_spots, s: -1}");
+            }).find("fem_rd.model.s:"),
             std::string::npos);
   // The default model is the paper's spot model.
   EXPECT_EQ(build("{}").model->species(), (std::vector<std::string>{"a", "b"}));
