@@ -13,7 +13,6 @@
 #include <H5public.h>
 #include <omp.h>
 
-#include <cstring>
 #include <iostream>
 
 namespace texsim::app {
