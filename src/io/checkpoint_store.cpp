@@ -77,26 +77,22 @@ std::filesystem::path CheckpointStore::path_of(std::int64_t step) const {
 }
 
 ResolvedCheckpoint CheckpointStore::resolve(const std::string& spec) const {
-  if (spec != "latest") {
-    open(spec);
-    return {spec, {}};
-  }
-  ResolvedCheckpoint resolved;
+  if (spec != "latest")
+    return {open(spec), {}};
+  std::vector<SkippedCheckpoint> skipped;
   const auto existing = steps();
   for (auto step = existing.rbegin(); step != existing.rend(); ++step) {
     const auto path = path_of(*step);
     try {
-      open(path);
-      resolved.path = path;
-      return resolved;
+      return {open(path), std::move(skipped)};
     } catch (const InputError& e) {
-      resolved.skipped.push_back({path, e.what()});
+      skipped.push_back({path, e.what()});
     }
   }
   std::ostringstream message;
   message << directory_.string() << ": no usable checkpoint to restart from";
-  for (const auto& skipped : resolved.skipped)
-    message << "\n  skipped " << skipped.reason;
+  for (const auto& entry : skipped)
+    message << "\n  skipped " << entry.reason;
   throw InputError(message.str());
 }
 

@@ -9,8 +9,7 @@
 ///   writer.commit();
 ///   ...
 ///   const auto found = store.resolve("latest");  // found.skipped: damaged newer files
-///   auto reader = store.open(found.path);
-///   reader.read<double>("u", local_u, first_row, my_rows);
+///   found.reader.read<double>("u", local_u, first_row, my_rows);
 #include "core/error.hpp"
 #include "io/checkpoint_reader.hpp"
 #include "io/checkpoint_writer.hpp"
@@ -29,10 +28,10 @@ struct SkippedCheckpoint {
   std::string reason;
 };
 
-/// The checkpoint a restart spec resolved to, with the newer ones that were skipped (for rank 0 to
-/// report).
+/// The checkpoint a restart spec resolved to, opened and verified (so it is read only once), with
+/// the newer ones that were skipped (for rank 0 to report).
 struct ResolvedCheckpoint {
-  std::filesystem::path path;
+  CheckpointReader reader;
   std::vector<SkippedCheckpoint> skipped;
 };
 

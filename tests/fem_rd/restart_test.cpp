@@ -82,7 +82,7 @@ struct FinalState {
 FinalState read_final_state(const fs::path& out) {
   const auto hash = read_summary(out)["config_hash"].get<std::string>();
   const io::CheckpointStore store(par::world(), out / "checkpoints", hash, 3);
-  const auto reader = store.open(store.resolve("latest").path);
+  const auto reader = store.resolve("latest").reader;
   FinalState state;
   state.step = reader.step();
   for (const auto& name : reader.dataset_names()) {

@@ -244,17 +244,17 @@ TEST(CheckpointStore, LatestFallsBackToThePreviousGoodCheckpoint) {
   write_checkpoint(store, 10, comm);
   const auto good = write_checkpoint(store, 20, comm);
   const auto bad = write_checkpoint(store, 30, comm);
-  EXPECT_EQ(store.resolve("latest").path, bad);
+  EXPECT_EQ(store.resolve("latest").reader.path(), bad);
   if (comm.is_root())
     corrupt_dataset(bad, "u8");
   comm.barrier();
   const auto resolved = store.resolve("latest");
-  EXPECT_EQ(resolved.path, good);
+  EXPECT_EQ(resolved.reader.path(), good);
   ASSERT_EQ(resolved.skipped.size(), 1u);
   EXPECT_EQ(resolved.skipped[0].path, bad);
   EXPECT_NE(resolved.skipped[0].reason.find("corrupt checkpoint"), std::string::npos);
-  EXPECT_EQ(store.resolve(good.string()).path, good);
-  EXPECT_EQ(store.open(resolved.path).step(), 20);
+  EXPECT_EQ(store.resolve(good.string()).reader.path(), good);
+  EXPECT_EQ(resolved.reader.step(), 20);
 }
 
 TEST(CheckpointStore, LatestInAnEmptyDirectoryIsAnInputError) {
@@ -328,7 +328,7 @@ TEST(CrossRankCount, ReadAtThisRankCount) {
     GTEST_SKIP() << "run by the io_checkpoint_cross_read ctest";
   const auto comm = par::world();
   const CheckpointStore store(comm, cross_rank_dir(), "cross", 1);
-  const auto reader = store.open(store.resolve("latest").path);
+  const auto reader = store.resolve("latest").reader;
   EXPECT_EQ(reader.step(), 3);
   expect_all_types(reader, uneven_block(elements, comm));
   expect_all_types(reader, even_block(elements, comm));

@@ -92,14 +92,13 @@ void FemRdPipeline::run(RunContext& ctx) {
       const auto found = store.resolve(*run.restart);
       for (const auto& skipped : found.skipped)
         log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-      const auto reader = store.open(found.path);
-      start = load_state(reader, *mesh, *solver_owner, geometry);
+      start = load_state(found.reader, *mesh, *solver_owner, geometry);
       mesh->set_positions(geometry.matrix_positions);
       solver_owner->rebuild_geometry();
       mesh->set_positions(geometry.positions);
       series = std::make_unique<io::PvdSeries>(
           io::PvdSeries::resume(comm, pvd_path, double(start) * settings_.rd.dt));
-      log::info(log::cat("restarted from ", found.path.string(), " at step ", start));
+      log::info(log::cat("restarted from ", found.reader.path().string(), " at step ", start));
     } else {
       series = std::make_unique<io::PvdSeries>(comm, pvd_path);
     }
