@@ -4,7 +4,9 @@
 #include "par/comm.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace texsim::bench {
@@ -21,6 +23,25 @@ inline double timed(const par::Comm& comm, const std::function<void()>& work) {
   work();
   MPI_Barrier(comm.raw);
   return MPI_Wtime() - start;
+}
+
+inline double max_over_ranks(const par::Comm& comm, double value) {
+  double result = 0;
+  MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
+  return result;
+}
+
+/// Peak resident memory of this process (VmHWM), MB, maximum over ranks. Collective.
+inline double peak_memory_mb(const par::Comm& comm) {
+  std::ifstream status("/proc/self/status");
+  double kilobytes = 0;
+  for (std::string key; status >> key;) {
+    if (key == "VmHWM:") {
+      status >> kilobytes;
+      break;
+    }
+  }
+  return max_over_ranks(comm, kilobytes / 1024.0);
 }
 
 } // namespace texsim::bench

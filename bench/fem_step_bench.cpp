@@ -54,7 +54,9 @@ struct BenchSettings {
 // The Turing spots model of Fig. 3 (c) of Bajaj, Zhang, Xu (s = 0.05), as the pipeline builds it.
 constexpr const char* kTuringYaml = "type: turing_spots\ns: 0.05\n";
 
+using texsim::bench::max_over_ranks;
 using texsim::bench::median;
+using texsim::bench::peak_memory_mb;
 using texsim::bench::timed;
 
 std::vector<double> repeated_times(const Comm& comm, int repeats,
@@ -67,25 +69,6 @@ std::vector<double> repeated_times(const Comm& comm, int repeats,
 
 double median_time(const Comm& comm, int repeats, const std::function<void()>& work) {
   return median(repeated_times(comm, repeats, work));
-}
-
-double max_over_ranks(const Comm& comm, double value) {
-  double result = 0;
-  MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
-  return result;
-}
-
-/// Peak resident memory of this process (VmHWM), MB, maximum over ranks. Collective.
-double peak_memory_mb(const Comm& comm) {
-  std::ifstream status("/proc/self/status");
-  double kilobytes = 0;
-  for (std::string key; status >> key;) {
-    if (key == "VmHWM:") {
-      status >> kilobytes;
-      break;
-    }
-  }
-  return max_over_ranks(comm, kilobytes / 1024.0);
 }
 
 /// Seconds (maximum over ranks) and call count of a PETSc event inside a log stage. Collective.

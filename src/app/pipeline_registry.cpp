@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "pipelines/fem_rd/fem_rd_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
+#include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
 
 #include <functional>
 #include <utility>
@@ -15,6 +16,8 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> entries = {
       {"fem_rd", [] { return std::make_unique<pipelines::fem_rd::FemRdPipeline>(); }},
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
+      {"solid_synthesis",
+       [] { return std::make_unique<pipelines::solid_synthesis::SolidSynthesisPipeline>(); }},
   };
   return entries;
 }

@@ -55,4 +55,48 @@ struct BrickParams {
 };
 RgbGrid brick_exemplar(int n, std::uint64_t seed, const BrickParams& params = {});
 
+/// Sea water (the thesis' case 4): homogeneous fBm in blue-green tones with sparse bright
+/// highlights where a second, finer fBm exceeds a threshold (noise_exemplar.cpp).
+struct NoiseParams {
+  int noise_period = 4; ///< lattice cells per tile of the coarsest octave
+  int octaves = 4;
+  int highlight_period = 8;         ///< lattice cells per tile of the highlight noise
+  double highlight_threshold = 0.5; ///< highlight fBm level above which the water turns bright
+  double highlight_softness = 0.12; ///< fBm range over which a highlight fades in
+  img::Rgb deep{0.05f, 0.22f, 0.33f};
+  img::Rgb shallow{0.18f, 0.52f, 0.55f};
+  img::Rgb highlight{0.92f, 0.97f, 0.98f};
+};
+RgbGrid noise_exemplar(int n, std::uint64_t seed, const NoiseParams& params = {});
+
+/// Thin black and white strokes (the thesis' case 6): the tile is cut into `layers` slabs along z;
+/// inside a slab the pattern is constant along z and made of noise-warped parallel strokes in a
+/// direction of its own, so it is continuous along x and y and broken between slabs
+/// (stroke_exemplar.cpp).
+struct StrokeParams {
+  int layers = 8;      ///< slabs per tile along z
+  int strokes = 6;     ///< stroke periods per tile across the stroke direction
+  double width = 0.12; ///< fraction of a period covered by each of the black and white strokes
+  double warp = 0.35;  ///< fBm amplitude added to the stroke phase, periods
+  int noise_period = 3;
+  img::Rgb background{0.5f, 0.5f, 0.5f};
+};
+RgbGrid stroke_exemplar(int n, std::uint64_t seed, const StrokeParams& params = {});
+
+/// Parallel planar stripes: colour = ramp(0.5 + 0.5 cos(2 pi periods v)) of y only, constant along
+/// x and z (stripe_exemplar.cpp). No randomness: a reference for anisometric rotation.
+struct StripeParams {
+  int periods = 4; ///< stripes per tile along y (integer keeps it tileable)
+  img::Rgb dark{0.1f, 0.12f, 0.3f};
+  img::Rgb light{0.95f, 0.85f, 0.5f};
+};
+RgbGrid stripe_exemplar(int n, const StripeParams& params = {});
+
+/// An exactly periodic exemplar: one period^3 cell of smooth random blobs (colours blended with
+/// Gaussian weights of the distance to a few random centres on the cell's torus) tiled n / period
+/// times along each axis, so voxel (i, j, k) equals voxel (i + period, j, k) bit for bit
+/// (lattice_exemplar.cpp). Unlike the generators above it is defined in voxels, not tile units:
+/// n must be a multiple of period.
+RgbGrid lattice_exemplar(int n, int period, std::uint64_t seed);
+
 } // namespace texsim::vol

@@ -1,0 +1,423 @@
+#include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
+
+#include "core/error.hpp"
+
+#include <emmintrin.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+constexpr int kLanes = 16;            ///< voxels per SIMD chunk (one AVX-512 register of floats)
+constexpr int kQueryBlock = 8;        ///< queries sharing each loaded chunk (register blocking)
+constexpr int kMaxWitnesses = 63;     ///< k - 1 limit (the greedy witness picks live on the stack)
+constexpr std::size_t kMinBatch = 16; ///< offers collected before the shortlist is merged
+constexpr std::size_t kTileBytes = 128 * 1024; ///< lane blocks scanned per pass over the queries
+
+using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
+using Bits = std::int32_t __attribute__((vector_size(kLanes * sizeof(float))));
+using Words = std::uint64_t __attribute__((vector_size(kLanes * sizeof(float))));
+
+constexpr float kNoBound = FLT_MAX;    ///< threshold without witnesses: every voxel hits
+constexpr float kNeverHits = -FLT_MAX; ///< threshold of the unused query slots of a block
+
+/// Everything the SIMD scan of a run of chunks reads. A hit (some query has a lane below its
+/// threshold) hands the chunk's float distances to `on_hit`, which may lower the thresholds.
+struct ChunkScan {
+  const float* lane_blocks;
+  std::int64_t chunk_begin;
+  std::int64_t chunk_end;
+  int channels;
+  const float* query_features;         ///< kQueryBlock x channels
+  const float* thresholds;             ///< kQueryBlock, re-read after every hit
+  const float* penalties[kQueryBlock]; ///< masked scans only: per query and lane, +inf in windows
+  void (*on_hit)(void* context, std::int64_t chunk, const float* distances);
+  void* context;
+};
+
+/// Float squared distances of kQueryBlock queries to the 16 voxels of each chunk; `Masked` adds
+/// the window penalties (a masked scan covers exactly one row). Hits are rare: the common path is
+/// subtract, multiply-add and a sign test.
+template <bool Masked> [[gnu::always_inline]] inline void scan_chunks_body(const ChunkScan& s) {
+  const int d = s.channels;
+  const float* q = s.query_features;
+  for (std::int64_t chunk = s.chunk_begin; chunk < s.chunk_end; ++chunk) {
+    const float* lanes = s.lane_blocks + chunk * d * kLanes;
+    Floats x;
+    std::memcpy(&x, lanes, sizeof x);
+    Floats acc[kQueryBlock];
+#pragma GCC unroll 16
+    for (int j = 0; j < kQueryBlock; ++j) {
+      const Floats diff = x - q[j * d];
+      acc[j] = diff * diff;
+    }
+    for (int c = 1; c < d; ++c) {
+      std::memcpy(&x, lanes + c * kLanes, sizeof x);
+#pragma GCC unroll 16
+      for (int j = 0; j < kQueryBlock; ++j) {
+        const Floats diff = x - q[j * d + c];
+        acc[j] += diff * diff;
+      }
+    }
+    if constexpr (Masked) {
+#pragma GCC unroll 16
+      for (int j = 0; j < kQueryBlock; ++j) {
+        Floats penalty;
+        std::memcpy(&penalty, s.penalties[j] + (chunk - s.chunk_begin) * kLanes, sizeof penalty);
+        acc[j] += penalty;
+      }
+    }
+    // acc - threshold is negative exactly where acc < threshold (both finite or acc = +inf);
+    // or-ing the bit patterns keeps any sign bit. Generic vector code, no comparisons: GCC keeps
+    // this vectorised in every target clone.
+    Bits any = reinterpret_cast<Bits>(acc[0] - s.thresholds[0]);
+#pragma GCC unroll 16
+    for (int j = 1; j < kQueryBlock; ++j)
+      any |= reinterpret_cast<Bits>(acc[j] - s.thresholds[j]);
+    const Words words = reinterpret_cast<Words>(any);
+    std::uint64_t sign = 0;
+#pragma GCC unroll 8
+    for (int w = 0; w < kLanes / 2; ++w)
+      sign |= words[w];
+    if (sign & 0x8000000080000000ull) {
+      alignas(64) float distances[kQueryBlock * kLanes];
+      std::memcpy(distances, acc, sizeof distances);
+      s.on_hit(s.context, chunk, distances);
+    }
+  }
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void scan_chunks(const ChunkScan& s) {
+  scan_chunks_body<false>(s);
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void
+scan_chunks_masked(const ChunkScan& s) {
+  scan_chunks_body<true>(s);
+}
+
+/// The squared feature distance the similarity sets are defined by: the sum over channels of
+/// (double(a_c) - double(b_c))^2 in channel order. Channel c of a is a[c * a_stride].
+double exact_distance(const float* a, std::ptrdiff_t a_stride, const float* b, int channels) {
+  double sum = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    const double diff = static_cast<double>(a[c * a_stride]) - static_cast<double>(b[c]);
+    sum += diff * diff;
+  }
+  return sum;
+}
+
+/// Bit i set where lanes[i] < threshold, for the 16 lanes of a chunk (SSE2, part of x86-64).
+unsigned lanes_below(const float* lanes, float threshold) {
+  const __m128 limit = _mm_set1_ps(threshold);
+  unsigned mask = 0;
+  for (int group = 0; group < kLanes / 4; ++group)
+    mask |=
+        static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(lanes + 4 * group), limit)))
+        << (4 * group);
+  return mask;
+}
+
+/// Largest |feature| for which d * (2 max)^2 stays below FLT_MAX / 4: float distances never
+/// overflow and stay below kNoBound.
+float largest_safe_feature(int channels) {
+  return static_cast<float>(std::sqrt(static_cast<double>(FLT_MAX) / (16.0 * channels)));
+}
+
+} // namespace
+
+struct NearestOutsideWindows::QueryState {
+  std::int32_t voxel = 0;
+  std::array<int, 3> at{};
+  std::vector<RankedVoxel> shortlist;
+  std::vector<RankedVoxel> pending; ///< offered since the last merge, unsorted
+  /// The last of the best k - 1 pairwise far-apart shortlist witnesses so far: voxels after it in
+  /// (distance, voxel) order can be dropped.
+  RankedVoxel bound{std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<std::int32_t>::max()};
+  /// Distance of the last of k - 1 pairwise far-apart seed voxels: farther voxels can be dropped.
+  double seed_bound = std::numeric_limits<double>::infinity();
+};
+
+struct NearestOutsideWindows::Block {
+  int count = 0; ///< queries in use (the last block of a range may be partial)
+  QueryState* queries[kQueryBlock] = {};
+  std::vector<float> query_features; ///< kQueryBlock x channels
+  float thresholds[kQueryBlock] = {};
+  std::vector<float> penalties;          ///< kQueryBlock x chunks_per_row x kLanes
+  std::vector<float> no_penalty;         ///< chunks_per_row x kLanes zeros
+  std::vector<std::int64_t> window_rows; ///< rows crossing some query's window, ascending
+};
+
+NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
+                                             const ExclusionWindows& windows, int witnesses)
+    : features_(features), windows_(windows), witnesses_(witnesses), channels_(features.channels()),
+      chunks_per_row_((features.dims().nx + kLanes - 1) / kLanes) {
+  TEXSIM_VERIFY(witnesses_ >= 1 && witnesses_ <= kMaxWitnesses,
+                "similarity sets: shortlists need 2 <= k <= " << kMaxWitnesses + 1
+                                                              << ", got k = " << witnesses_ + 1);
+  TEXSIM_VERIFY(features.dims() == windows.dims, "similarity sets: window grid differs from the "
+                                                 "feature grid");
+  const float safe = largest_safe_feature(channels_);
+  for (const float f : features.data())
+    TEXSIM_VERIFY(std::isfinite(f) && std::abs(f) <= safe,
+                  "similarity sets: feature value " << f << " is not finite or exceeds " << safe);
+  // Float distance error: each difference rounds once, each square and sum at most twice, so
+  // |float - exact| <= (d + 3) 2^-24 exact + the subnormal spacing per operation; doubled for
+  // margin.
+  relative_error_ = 2.0 * (channels_ + 3) * std::ldexp(1.0, -24);
+
+  const vol::Dims dims = features.dims();
+  const std::size_t rows = static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(dims.nz);
+  const std::size_t chunk_floats = static_cast<std::size_t>(channels_) * kLanes;
+  rows_per_tile_ = static_cast<int>(
+      std::max<std::size_t>(1, kTileBytes / (chunk_floats * sizeof(float) * chunks_per_row_)));
+  lane_blocks_.assign(rows * chunks_per_row_ * chunk_floats,
+                      std::numeric_limits<float>::infinity()); // padding lanes never hit
+  for (std::size_t row = 0; row < rows; ++row)
+    for (int x = 0; x < dims.nx; ++x) {
+      const auto f = features.voxel(row * static_cast<std::size_t>(dims.nx) + x);
+      float* chunk = lane_blocks_.data() + (row * chunks_per_row_ + x / kLanes) * chunk_floats;
+      for (int c = 0; c < channels_; ++c)
+        chunk[c * kLanes + x % kLanes] = f[static_cast<std::size_t>(c)];
+    }
+}
+
+float NearestOutsideWindows::threshold_for(double bound, bool strict) const {
+  // A voxel whose float distance is >= the threshold has exact distance > bound (>= bound if
+  // `strict` is false and bound = 0: the margin in relative_error_ makes every other case strict).
+  const double subnormal_slack = (channels_ + 1) * std::ldexp(1.0, -149);
+  if (bound == 0.0 && !strict)
+    return 0.0f;
+  const double limit = bound * (1.0 + relative_error_) + subnormal_slack;
+  if (!(limit < static_cast<double>(kNoBound)))
+    return kNoBound;
+  float threshold = static_cast<float>(limit);
+  if (static_cast<double>(threshold) <= limit)
+    threshold = std::nextafter(threshold, kNoBound);
+  return threshold;
+}
+
+float NearestOutsideWindows::threshold(const QueryState& query) const {
+  // Shortlist witnesses were all scanned before any voxel still to come, which therefore has a
+  // larger index: equal distance already puts it after them. Seed witnesses may come later in the
+  // scan, so they drop only voxels strictly farther than all of them.
+  return std::min(threshold_for(query.bound.distance, false),
+                  threshold_for(query.seed_bound, true));
+}
+
+std::size_t NearestOutsideWindows::last_witness(const std::vector<RankedVoxel>& sorted) const {
+  // Greedy in (distance, voxel) order: each pick is far from every earlier pick.
+  std::array<int, 3> picks[kMaxWitnesses];
+  int picked = 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    const auto at = windows_.coordinates(sorted[i].voxel);
+    bool far = true;
+    for (int p = 0; p < picked && far; ++p)
+      far = windows_.far_apart(picks[p], at);
+    if (!far)
+      continue;
+    if (picked + 1 == witnesses_)
+      return i;
+    picks[picked++] = at;
+  }
+  return sorted.size();
+}
+
+void NearestOutsideWindows::seed(QueryState& query) const {
+  const float* query_features = features_.voxel(static_cast<std::size_t>(query.voxel)).data();
+  // The voxels one step outside the window along each axis direction and diagonal: for smooth
+  // features they are among the best matches, so the threshold starts close to its final value.
+  const vol::Dims dims = features_.dims();
+  const int step = windows_.half + 1;
+  std::vector<RankedVoxel> seeds;
+  for (int dz = -step; dz <= step; dz += step)
+    for (int dy = -step; dy <= step; dy += step)
+      for (int dx = -step; dx <= step; dx += step) {
+        std::array<int, 3> at{query.at[0] + dx, query.at[1] + dy, query.at[2] + dz};
+        const int sizes[3] = {dims.nx, dims.ny, dims.nz};
+        bool in_grid = true;
+        for (int axis = 0; axis < 3; ++axis) {
+          if (windows_.periodic)
+            at[axis] = vol::ChannelGrid::wrap(at[axis], sizes[axis]);
+          in_grid = in_grid && at[axis] >= 0 && at[axis] < sizes[axis];
+        }
+        if (!in_grid || windows_.inside(query.at, at))
+          continue;
+        const auto voxel = static_cast<std::int32_t>(features_.index(at[0], at[1], at[2]));
+        seeds.push_back({exact_distance(features_.voxel(static_cast<std::size_t>(voxel)).data(), 1,
+                                        query_features, channels_),
+                         voxel});
+      }
+  std::sort(seeds.begin(), seeds.end());
+  const std::size_t last = last_witness(seeds);
+  if (last < seeds.size())
+    query.seed_bound = seeds[last].distance;
+}
+
+void NearestOutsideWindows::merge_pending(QueryState& query) const {
+  auto& list = query.shortlist;
+  const auto middle = static_cast<std::ptrdiff_t>(list.size());
+  std::sort(query.pending.begin(), query.pending.end());
+  list.insert(list.end(), query.pending.begin(), query.pending.end());
+  query.pending.clear();
+  std::inplace_merge(list.begin(), list.begin() + middle, list.end());
+  const std::size_t last = last_witness(list);
+  if (last < list.size() && list[last] < query.bound) {
+    query.bound = list[last];
+    list.resize(last + 1);
+  }
+}
+
+void NearestOutsideWindows::offer(QueryState& query, const float* query_features,
+                                  std::int32_t voxel, const float* voxel_lane) const {
+  if (windows_.inside(query.at, windows_.coordinates(voxel)))
+    return;
+  // The voxel's features from the lane block just scanned (in cache), not from the grid.
+  const RankedVoxel candidate{exact_distance(voxel_lane, kLanes, query_features, channels_), voxel};
+  if (!(candidate < query.bound) || candidate.distance > query.seed_bound)
+    return;
+  // Offers are batched: the witnesses are looked for again once the batch is half the shortlist,
+  // so a query collecting many candidates (no far-apart witnesses yet) costs O(n log n), not n^2.
+  query.pending.push_back(candidate);
+  if (query.pending.size() >= std::max<std::size_t>(kMinBatch, query.shortlist.size() / 2))
+    merge_pending(query);
+}
+
+void NearestOutsideWindows::accept_hits(Block& block, std::int64_t chunk,
+                                        const float* distances) const {
+  const std::int64_t row = chunk / chunks_per_row_;
+  const int first_x = static_cast<int>(chunk % chunks_per_row_) * kLanes;
+  const std::int64_t row_start = row * features_.dims().nx;
+  const float* chunk_features = lane_blocks_.data() + chunk * channels_ * kLanes;
+  for (int j = 0; j < block.count; ++j) {
+    const float* lanes = distances + j * kLanes;
+    for (unsigned below = lanes_below(lanes, block.thresholds[j]); below != 0; below &= below - 1) {
+      const int lane = __builtin_ctz(below);
+      if (!(lanes[lane] < block.thresholds[j])) // an earlier lane lowered the threshold
+        continue;
+      QueryState& query = *block.queries[j];
+      offer(query, block.query_features.data() + j * channels_,
+            static_cast<std::int32_t>(row_start + first_x + lane), chunk_features + lane);
+      block.thresholds[j] = threshold(query);
+    }
+  }
+}
+
+void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
+                                       std::int64_t row_end) const {
+  const vol::Dims dims = features_.dims();
+  // Rows crossing a query's window get the SIMD penalties (its window lanes never hit); the
+  // others, all but about window^2 of them, are scanned plain in long runs.
+  const auto in_window = [&](int j, std::int64_t row) {
+    const QueryState& query = *block.queries[j];
+    const int y = static_cast<int>(row % dims.ny);
+    const int z = static_cast<int>(row / dims.ny);
+    return windows_.axis_distance(y, query.at[1], dims.ny) <= windows_.half &&
+           windows_.axis_distance(z, query.at[2], dims.nz) <= windows_.half;
+  };
+  struct HitContext {
+    const NearestOutsideWindows* self;
+    Block* block;
+  } context{this, &block};
+  ChunkScan scan{};
+  scan.lane_blocks = lane_blocks_.data();
+  scan.channels = channels_;
+  scan.query_features = block.query_features.data();
+  scan.thresholds = block.thresholds;
+  scan.on_hit = [](void* c, std::int64_t chunk, const float* distances) {
+    auto* hit = static_cast<HitContext*>(c);
+    hit->self->accept_hits(*hit->block, chunk, distances);
+  };
+  scan.context = &context;
+  const auto& masked = block.window_rows;
+  auto next_masked = std::lower_bound(masked.begin(), masked.end(), row_begin);
+  for (std::int64_t row = row_begin; row < row_end;) {
+    if (next_masked != masked.end() && *next_masked == row) {
+      ++next_masked;
+      for (int j = 0; j < kQueryBlock; ++j)
+        scan.penalties[j] = j < block.count && in_window(j, row)
+                                ? block.penalties.data() + j * chunks_per_row_ * kLanes
+                                : block.no_penalty.data();
+      scan.chunk_begin = row * chunks_per_row_;
+      scan.chunk_end = scan.chunk_begin + chunks_per_row_;
+      scan_chunks_masked(scan);
+      ++row;
+      continue;
+    }
+    const std::int64_t run_end =
+        next_masked != masked.end() ? std::min(*next_masked, row_end) : row_end;
+    scan.chunk_begin = row * chunks_per_row_;
+    scan.chunk_end = run_end * chunks_per_row_;
+    scan_chunks(scan);
+    row = run_end;
+  }
+}
+
+std::vector<std::vector<RankedVoxel>> NearestOutsideWindows::shortlists(std::int32_t first,
+                                                                        std::int32_t last) const {
+  const vol::Dims dims = features_.dims();
+  const int count = last - first;
+  std::vector<QueryState> queries(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    queries[i].voxel = first + i;
+    queries[i].at = windows_.coordinates(first + i);
+    seed(queries[i]);
+  }
+
+  // Blocks of kQueryBlock queries: their features, thresholds and window penalties per lane.
+  std::vector<Block> blocks(static_cast<std::size_t>((count + kQueryBlock - 1) / kQueryBlock));
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    Block& block = blocks[b];
+    block.count = std::min(kQueryBlock, count - static_cast<int>(b) * kQueryBlock);
+    block.query_features.assign(static_cast<std::size_t>(kQueryBlock) * channels_, 0.0f);
+    block.penalties.assign(static_cast<std::size_t>(kQueryBlock) * chunks_per_row_ * kLanes, 0.0f);
+    block.no_penalty.assign(static_cast<std::size_t>(chunks_per_row_) * kLanes, 0.0f);
+    for (int j = 0; j < kQueryBlock; ++j) {
+      block.thresholds[j] = kNeverHits;
+      if (j >= block.count)
+        continue;
+      QueryState& query = queries[b * kQueryBlock + j];
+      block.thresholds[j] = threshold(query);
+      block.queries[j] = &query;
+      const auto f = features_.voxel(static_cast<std::size_t>(query.voxel));
+      std::copy(f.begin(), f.end(), block.query_features.begin() + j * channels_);
+      for (int x = 0; x < dims.nx; ++x)
+        if (windows_.axis_distance(x, query.at[0], dims.nx) <= windows_.half)
+          block.penalties[(static_cast<std::size_t>(j) * chunks_per_row_) * kLanes + x] =
+              std::numeric_limits<float>::infinity();
+      for (int dz = -windows_.half; dz <= windows_.half; ++dz)
+        for (int dy = -windows_.half; dy <= windows_.half; ++dy) {
+          int y = query.at[1] + dy, z = query.at[2] + dz;
+          if (windows_.periodic) {
+            y = vol::ChannelGrid::wrap(y, dims.ny);
+            z = vol::ChannelGrid::wrap(z, dims.nz);
+          }
+          if (y >= 0 && y < dims.ny && z >= 0 && z < dims.nz)
+            block.window_rows.push_back(y + static_cast<std::int64_t>(dims.ny) * z);
+        }
+    }
+    std::sort(block.window_rows.begin(), block.window_rows.end());
+    block.window_rows.erase(std::unique(block.window_rows.begin(), block.window_rows.end()),
+                            block.window_rows.end());
+  }
+
+  const std::int64_t rows = static_cast<std::int64_t>(dims.ny) * dims.nz;
+  for (std::int64_t tile = 0; tile < rows; tile += rows_per_tile_)
+    for (Block& block : blocks)
+      scan_block(block, tile, std::min<std::int64_t>(rows, tile + rows_per_tile_));
+
+  for (QueryState& query : queries)
+    merge_pending(query);
+  std::vector<std::vector<RankedVoxel>> lists(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i)
+    lists[i] = std::move(queries[i].shortlist);
+  return lists;
+}
+
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,285 @@
+#include "pipelines/solid_synthesis/pyramid_synthesizer.hpp"
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "pipelines/solid_synthesis/correction_stencil.hpp"
+
+#include <Eigen/Core>
+#include <mpi.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// Stream of the jitter hash H(p) of eq. (2).
+constexpr std::uint32_t kJitterStream = 0x5353;
+
+int wrap(int v, int n) {
+  const int m = v % n;
+  return m < 0 ? m + n : m;
+}
+
+/// Wrapping of one exemplar axis by table lookup: the correction computes hundreds of wrapped
+/// coordinates per voxel, and integer division would dominate its cost. Offsets beyond the
+/// table's margin (large anisometric scales) fall back to the modulo.
+class AxisWrap {
+public:
+  AxisWrap(int n, std::int64_t stride)
+      : n_(n), margin_(16 * n + 256), stride_(stride), table_(2 * margin_ + n) {
+    for (int v = -margin_; v < n + margin_; ++v)
+      table_[v + margin_] = wrap(v, n) * stride;
+  }
+  std::int64_t operator()(int v) const {
+    const int at = v + margin_;
+    return at >= 0 && at < static_cast<int>(table_.size()) ? table_[at] : wrap(v, n_) * stride_;
+  }
+
+private:
+  int n_;
+  int margin_;
+  std::int64_t stride_;
+  std::vector<std::int64_t> table_;
+};
+
+/// Features and similarity sets of one stack level, with the lookups the correction needs.
+class ExemplarLevelView {
+public:
+  ExemplarLevelView(const vol::ChannelGrid& features, const SimilaritySets& sets)
+      : features_(features.data().data()), k_(sets.k), channels_(features.channels()),
+        wrap_x_(features.dims().nx, 1), wrap_y_(features.dims().ny, features.dims().nx),
+        wrap_z_(features.dims().nz, std::int64_t{features.dims().nx} * features.dims().ny),
+        candidates_(sets.candidates.size()) {
+    const vol::Dims dims = features.dims();
+    for (std::size_t c = 0; c < candidates_.size(); ++c) {
+      const std::int64_t v = sets.candidates[c];
+      candidates_[c] = {static_cast<std::int32_t>(v % dims.nx),
+                        static_cast<std::int32_t>((v / dims.nx) % dims.ny),
+                        static_cast<std::int32_t>(v / (std::int64_t{dims.nx} * dims.ny))};
+    }
+  }
+
+  int channels() const { return channels_; }
+  int k() const { return k_; }
+
+  /// Storage index of the exemplar voxel at coordinate c, wrapped.
+  std::int64_t index(const Coord& c) const { return wrap_x_(c.x) + wrap_y_(c.y) + wrap_z_(c.z); }
+  const float* feature(const Coord& c) const { return features_ + index(c) * channels_; }
+  /// C_{i+1} of the exemplar voxel at coordinate c.
+  const Coord& candidate(const Coord& c, int i) const {
+    return candidates_[static_cast<std::size_t>(index(c) * k_ + i)];
+  }
+
+private:
+  const float* features_;
+  int k_;
+  int channels_;
+  AxisWrap wrap_x_, wrap_y_, wrap_z_;
+  std::vector<Coord> candidates_;
+};
+
+/// The best of the 8k candidates for voxel p: eqs. (3)-(4) (or (6)-(7)) against N_E(u).
+/// `scratch` holds 8 * channels floats for N_S(p).
+std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, int k,
+                                    const CorrectionStencil& stencil,
+                                    const ExemplarLevelView& exemplar, float* neighbourhood) {
+  const int d = exemplar.channels();
+  for (int dir = 0; dir < kDiagonalCount; ++dir) {
+    float* average = neighbourhood + dir * d;
+    for (int c = 0; c < d; ++c)
+      average[c] = 0.0f;
+    for (int m = 0; m < kSubNeighbourCount; ++m) {
+      const Coord& offset = stencil.sample[dir][m];
+      const Coord at = slab.at(i + offset.x, j + offset.y, k + offset.z) +
+                       stencil.sample_shift[dir][m];
+      const float* f = exemplar.feature(at);
+      for (int c = 0; c < d; ++c)
+        average[c] += f[c];
+    }
+    for (int c = 0; c < d; ++c)
+      average[c] *= 1.0f / kSubNeighbourCount;
+  }
+
+  Coord best = slab.at(i, j, k);
+  float best_distance = std::numeric_limits<float>::infinity();
+  for (int dir = 0; dir < kDiagonalCount; ++dir) {
+    const Coord& source = stencil.source[dir];
+    const Coord neighbour = slab.at(i + source.x, j + source.y, k + source.z);
+    for (int n = 0; n < exemplar.k(); ++n) {
+      const Coord candidate = exemplar.candidate(neighbour, n) - stencil.source_shift[dir];
+      float distance = 0.0f;
+      for (int e = 0; e < kDiagonalCount && distance < best_distance; ++e) {
+        const float* f = exemplar.feature(candidate + stencil.exemplar_offset[e]);
+        const float* target = neighbourhood + e * d;
+        for (int c = 0; c < d; ++c) {
+          const float diff = f[c] - target[c];
+          distance += diff * diff;
+        }
+      }
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = candidate;
+      }
+    }
+  }
+  return {best, best_distance};
+}
+
+} // namespace
+
+int level_of(const CoordinateSlab& slab) {
+  int level = 0;
+  while ((1 << level) < slab.size())
+    ++level;
+  return level;
+}
+
+PyramidSynthesizer::PyramidSynthesizer(const par::Comm& comm, SynthesisExemplar exemplar,
+                                       SynthesisOptions options, const AxesField* field)
+    : comm_(comm), exemplar_(std::move(exemplar)), options_(options), field_(field) {
+  TEXSIM_VERIFY(!exemplar_.features.empty() && exemplar_.features.size() == exemplar_.sets.size(),
+                "one similarity-set slot per stack level expected");
+  TEXSIM_VERIFY(options_.levels >= 0 && options_.levels < 16,
+                "pyramid levels out of range: " << options_.levels);
+}
+
+int PyramidSynthesizer::stack_level(int level) const {
+  const int s = options_.levels - level;
+  return std::min(s, static_cast<int>(exemplar_.features.size()) - 1);
+}
+
+Coord PyramidSynthesizer::wrapped(const Coord& c) const {
+  return {wrap(c.x, exemplar_.dims.nx), wrap(c.y, exemplar_.dims.ny), wrap(c.z, exemplar_.dims.nz)};
+}
+
+CoordinateSlab PyramidSynthesizer::first_level(LevelStats& stats) const {
+  CoordinateSlab slab(level_layout(0, comm_.rank, comm_.size));
+  slab.at(0, 0, 0) = Coord{};
+  jitter(slab, 0);
+  correct(slab, 0, level_jacobians(slab.layout()), stats);
+  return slab;
+}
+
+CoordinateSlab PyramidSynthesizer::next_level(const CoordinateSlab& parent,
+                                              LevelStats& stats) const {
+  const int level = level_of(parent) + 1;
+  TEXSIM_VERIFY(level <= options_.levels, "no level after the finest");
+  const LevelLayout layout = level_layout(level, comm_.rank, comm_.size);
+  CoordinateSlab slab(layout);
+  const int n = layout.size;
+  const int h = spacing(level);
+  const std::optional<LevelJacobians> jacobians = level_jacobians(layout);
+  const auto isometric_children = child_offsets(h, Eigen::Matrix3f::Identity());
+
+#pragma omp parallel for schedule(static)
+  for (int k = layout.z_begin; k < layout.z_end; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int child = (i & 1) + 2 * (j & 1) + 4 * (k & 1);
+        const Coord offset = jacobians ? child_offsets(h, jacobians->a(i, j, k))[child]
+                                       : isometric_children[child];
+        slab.at(i, j, k) = wrapped(parent.at(i >> 1, j >> 1, k >> 1) + offset);
+      }
+  jitter(slab, level);
+  correct(slab, level, jacobians, stats);
+  return slab;
+}
+
+std::optional<LevelJacobians> PyramidSynthesizer::level_jacobians(const LevelLayout& layout) const {
+  if (!field_)
+    return std::nullopt;
+  return sample_level(*field_, layout.size, layout.z_begin, layout.z_end, 1 << options_.levels);
+}
+
+void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
+  const CounterRng hash(options_.seed, kJitterStream);
+  const LevelLayout& layout = slab.layout();
+  const int n = layout.size;
+  const double amplitude = spacing(level) * options_.jitter;
+#pragma omp parallel for schedule(static)
+  for (int k = layout.z_begin; k < layout.z_end; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::uint64_t id =
+            std::uint64_t(i) + std::uint64_t(n) * (std::uint64_t(j) + std::uint64_t(n) * k);
+        const auto offset = [&](int axis) {
+          return static_cast<std::int32_t>(
+              std::floor(amplitude * hash.uniform(-1.0, 1.0, id, level, axis) + 0.5));
+        };
+        slab.at(i, j, k) = wrapped(slab.at(i, j, k) + Coord{offset(0), offset(1), offset(2)});
+      }
+}
+
+void PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
+                                 const std::optional<LevelJacobians>& jacobians,
+                                 LevelStats& stats) const {
+  const int s = stack_level(level);
+  const int h = spacing(level);
+  stats = LevelStats{level, h, s, false, 0.0};
+  const SimilaritySets* sets = exemplar_.sets[s];
+  if (!sets || options_.correction_passes == 0)
+    return;
+  stats.corrected = true;
+  const ExemplarLevelView exemplar(*exemplar_.features[s], *sets);
+  const LevelLayout& layout = slab.layout();
+  const int n = layout.size;
+  const CorrectionStencil isometric =
+      make_stencil(h, Eigen::Matrix3f::Identity(), Eigen::Matrix3f::Identity());
+
+  // One class of the parity lattice: voxels (2a + cx, 2b + cy, 2c + cz); smaller levels have
+  // fewer than 2 voxels along an axis, and then classes with c = 1 are empty.
+  const int half = std::max(1, n / 2);
+  const int planes = layout.z_end - layout.z_begin;
+  std::vector<Coord> updates(static_cast<std::size_t>(half) * half * std::max(1, (planes + 1) / 2));
+  double distance_sum = 0.0;
+  for (int pass = 0; pass < options_.correction_passes; ++pass) {
+    const bool last_pass = pass + 1 == options_.correction_passes;
+    for (int subpass = 0; subpass < 8; ++subpass) {
+      const int cx = subpass & 1, cy = (subpass >> 1) & 1, cz = (subpass >> 2) & 1;
+      if (n < 2 && subpass != 0)
+        continue;
+      slab.exchange_halo(comm_);
+      const int first_k = layout.z_begin + ((layout.z_begin & 1) != cz ? 1 : 0);
+      const int class_planes = first_k < layout.z_end ? (layout.z_end - first_k + 1) / 2 : 0;
+      const int row = half;
+      double subpass_distance = 0.0;
+#pragma omp parallel reduction(+ : subpass_distance)
+      {
+        std::vector<float> neighbourhood(kDiagonalCount * exemplar.channels());
+#pragma omp for schedule(static)
+        for (int plane = 0; plane < class_planes; ++plane) {
+          const int k = first_k + 2 * plane;
+          for (int b = 0; b < row; ++b)
+            for (int a = 0; a < row; ++a) {
+              const int i = 2 * a + cx, j = 2 * b + cy;
+              const CorrectionStencil stencil =
+                  jacobians ? make_stencil(h, jacobians->a(i, j, k), jacobians->a_inverse(i, j, k))
+                            : isometric;
+              const auto [best, distance] =
+                  best_match(slab, i, j, k, stencil, exemplar, neighbourhood.data());
+              updates[(static_cast<std::size_t>(plane) * row + b) * row + a] = wrapped(best);
+              subpass_distance += distance;
+            }
+        }
+      }
+      for (int plane = 0; plane < class_planes; ++plane)
+        for (int b = 0; b < row; ++b)
+          for (int a = 0; a < row; ++a)
+            slab.at(2 * a + cx, 2 * b + cy, first_k + 2 * plane) =
+                updates[(static_cast<std::size_t>(plane) * row + b) * row + a];
+      if (last_pass)
+        distance_sum += subpass_distance;
+    }
+  }
+  slab.exchange_halo(comm_);
+  // Replicated levels are computed in full on every rank: count them once.
+  const double local = layout.replicated && comm_.rank != 0 ? 0.0 : distance_sum;
+  double total = 0.0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_.raw);
+  stats.mean_match_distance = total / (double(n) * n * n);
+}
+
+} // namespace texsim::pipelines::solid_synthesis

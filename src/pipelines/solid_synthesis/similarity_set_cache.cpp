@@ -1,0 +1,194 @@
+#include "pipelines/solid_synthesis/similarity_set_cache.hpp"
+
+#include "core/error.hpp"
+#include "core/hash.hpp"
+#include "core/log.hpp"
+#include "io/hdf5_attribute.hpp"
+#include "io/hdf5_file.hpp"
+#include "par/hdf5_call.hpp"
+#include "par/hdf5_handle.hpp"
+
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <array>
+#include <cstdio>
+#include <string_view>
+#include <system_error>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// Bumped whenever the file layout changes; files of another version are recomputed.
+constexpr std::int64_t kFormatVersion = 1;
+constexpr const char* kDataset = "candidates";
+
+/// What a key says about the sets it names.
+struct KeyFields {
+  vol::Dims dims;
+  int channels = 0;
+  SimilarityOptions options;
+};
+
+std::string format_key(const KeyFields& f, std::uint64_t feature_hash) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%dx%dx%dx%d-k%d-n%d-%s-%s", f.dims.nx, f.dims.ny, f.dims.nz,
+                f.channels, f.options.k, f.options.window, f.options.periodic ? "torus" : "open",
+                hex64(feature_hash).c_str());
+  return text;
+}
+
+KeyFields parse_key(const std::string& key) {
+  KeyFields f;
+  char border[8] = {};
+  char hash[17] = {};
+  const int read =
+      std::sscanf(key.c_str(), "%dx%dx%dx%d-k%d-n%d-%5[a-z]-%16[0-9a-f]", &f.dims.nx, &f.dims.ny,
+                  &f.dims.nz, &f.channels, &f.options.k, &f.options.window, border, hash);
+  f.options.periodic = std::string_view(border) == "torus";
+  TEXSIM_VERIFY(read == 8 && f.options.k >= 1 && f.dims.count() > 0 &&
+                    (f.options.periodic || std::string_view(border) == "open"),
+                "similarity-set cache: '" << key << "' is not a key made by similarity_cache_key");
+  return f;
+}
+
+/// The sets in `file` if everything checks out; nothing for a missing, foreign, damaged or
+/// inconsistent file. Not collective.
+std::optional<SimilaritySets> read_sets(const std::filesystem::path& file, const std::string& key,
+                                        const KeyFields& expected) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error))
+    return std::nullopt;
+  try {
+    par::silence_hdf5_error_printing();
+    if (H5Fis_hdf5(file.c_str()) <= 0)
+      return std::nullopt;
+    const par::Hdf5Handle h5 = io::open_serial_file(file);
+    if (std::get<std::int64_t>(io::read_attribute(h5.get(), "format_version", file)) !=
+            kFormatVersion ||
+        std::get<std::string>(io::read_attribute(h5.get(), "key", file)) != key)
+      return std::nullopt;
+    const int k = expected.options.k;
+    const par::Hdf5Handle data(
+        TEXSIM_HDF5_CALL(H5Dopen2(h5.get(), kDataset, H5P_DEFAULT), file.string()), H5Dclose);
+    const par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(data.get()), file.string()),
+                                H5Sclose);
+    std::array<hsize_t, 4> shape{};
+    if (TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), file.string()) != 4)
+      return std::nullopt;
+    TEXSIM_HDF5_CALL(H5Sget_simple_extent_dims(space.get(), shape.data(), nullptr), file.string());
+    const vol::Dims dims = expected.dims;
+    if (shape != std::array<hsize_t, 4>{static_cast<hsize_t>(dims.nz),
+                                        static_cast<hsize_t>(dims.ny),
+                                        static_cast<hsize_t>(dims.nx), static_cast<hsize_t>(k)})
+      return std::nullopt;
+    SimilaritySets sets{dims, k, std::vector<std::int32_t>(dims.count() * k)};
+    TEXSIM_HDF5_CALL(H5Dread(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                             sets.candidates.data()),
+                     file.string());
+    // Structure every valid set has: C_1(v) = v and indices inside the grid.
+    const auto voxels = static_cast<std::int64_t>(dims.count());
+    for (std::int64_t v = 0; v < voxels; ++v)
+      for (int i = 0; i < k; ++i) {
+        const std::int32_t c = sets.candidates[static_cast<std::size_t>(v * k + i)];
+        if (c < 0 || c >= voxels || (i == 0 && c != v))
+          return std::nullopt;
+      }
+    return sets;
+  } catch (const std::exception&) {
+    return std::nullopt; // damaged: the caller recomputes and overwrites it
+  }
+}
+
+void write_sets(const std::filesystem::path& file, const std::string& key, const KeyFields& fields,
+                const SimilaritySets& sets) {
+  if (file.has_parent_path())
+    std::filesystem::create_directories(file.parent_path());
+  std::string hidden_name = ".";
+  hidden_name += file.filename().string();
+  hidden_name += ".tmp";
+  const std::filesystem::path temporary = file.parent_path() / hidden_name;
+  try {
+    par::silence_hdf5_error_printing();
+    const std::string context = temporary.string();
+    par::Hdf5Handle h5(
+        TEXSIM_HDF5_CALL(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                         context),
+        H5Fclose);
+    const std::array<hsize_t, 4> shape{
+        static_cast<hsize_t>(sets.dims.nz), static_cast<hsize_t>(sets.dims.ny),
+        static_cast<hsize_t>(sets.dims.nx), static_cast<hsize_t>(sets.k)};
+    const par::Hdf5Handle space(
+        TEXSIM_HDF5_CALL(H5Screate_simple(4, shape.data(), nullptr), context), H5Sclose);
+    {
+      const par::Hdf5Handle data(
+          TEXSIM_HDF5_CALL(H5Dcreate2(h5.get(), kDataset, H5T_STD_I32LE, space.get(), H5P_DEFAULT,
+                                      H5P_DEFAULT, H5P_DEFAULT),
+                           context << ": dataset " << kDataset),
+          H5Dclose);
+      TEXSIM_HDF5_CALL(H5Dwrite(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                sets.candidates.data()),
+                       context << ": dataset " << kDataset);
+    }
+    io::write_attribute(h5.get(), "format_version", kFormatVersion, temporary);
+    io::write_attribute(h5.get(), "key", key, temporary);
+    io::write_attribute(h5.get(), "k", std::int64_t{sets.k}, temporary);
+    io::write_attribute(h5.get(), "window", std::int64_t{fields.options.window}, temporary);
+    io::write_attribute(h5.get(), "periodic", std::int64_t{fields.options.periodic}, temporary);
+    TEXSIM_HDF5_CALL(h5.reset(), context << ": closing");
+    std::filesystem::rename(temporary, file);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
+}
+
+} // namespace
+
+std::string similarity_cache_key(const vol::ChannelGrid& features,
+                                 const SimilarityOptions& options) {
+  const auto values = features.data();
+  const std::string_view bytes(reinterpret_cast<const char*>(values.data()),
+                               values.size() * sizeof(float));
+  return format_key({features.dims(), features.channels(), options}, fnv1a64(bytes));
+}
+
+std::optional<SimilaritySets> load_similarity_sets(const par::Comm& comm,
+                                                   const std::filesystem::path& file,
+                                                   const std::string& key) {
+  const KeyFields fields = parse_key(key);
+  std::optional<SimilaritySets> sets;
+  if (comm.is_root())
+    sets = read_sets(file, key, fields);
+  int found = sets.has_value();
+  MPI_Bcast(&found, 1, MPI_INT, 0, comm.raw);
+  if (!found)
+    return std::nullopt;
+  if (!comm.is_root())
+    sets = SimilaritySets{fields.dims, fields.options.k,
+                          std::vector<std::int32_t>(fields.dims.count() * fields.options.k)};
+  MPI_Bcast(sets->candidates.data(), static_cast<int>(sets->candidates.size()), MPI_INT32_T, 0,
+            comm.raw);
+  return sets;
+}
+
+void save_similarity_sets(const par::Comm& comm, const std::filesystem::path& file,
+                          const std::string& key, const SimilaritySets& sets) {
+  const KeyFields fields = parse_key(key);
+  TEXSIM_VERIFY(fields.dims == sets.dims && fields.options.k == sets.k &&
+                    sets.candidates.size() == sets.dims.count() * static_cast<std::size_t>(sets.k),
+                "similarity-set cache: sets of " << sets.dims.nx << " x " << sets.dims.ny << " x "
+                                                 << sets.dims.nz << ", k = " << sets.k
+                                                 << " do not match key " << key);
+  if (comm.is_root()) {
+    try {
+      write_sets(file, key, fields, sets);
+    } catch (const std::exception& e) {
+      log::warn(log::cat("similarity-set cache not written (", file.string(), "): ", e.what()));
+    }
+  }
+  MPI_Barrier(comm.raw);
+}
+
+} // namespace texsim::pipelines::solid_synthesis

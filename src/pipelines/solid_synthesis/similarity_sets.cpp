@@ -1,0 +1,110 @@
+#include "pipelines/solid_synthesis/similarity_sets.hpp"
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
+
+#include <mpi.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <limits>
+#include <vector>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// Query voxels per OpenMP task: enough to reuse each feature tile across 16 register blocks,
+/// few enough that dynamic scheduling balances the threads.
+constexpr std::int32_t kQueriesPerTask = 128;
+/// Largest k (the chosen candidates' coordinates live on the stack).
+constexpr int kMaxCandidates = 64;
+
+/// The greedy selection of section 3.2 over a shortlist sorted by (distance, voxel): C_1 = p, then
+/// each next shortlist voxel outside the windows of the candidates chosen so far.
+void select_candidates(std::int32_t query, const std::vector<RankedVoxel>& shortlist,
+                       const ExclusionWindows& windows, int k, std::int32_t* out) {
+  std::array<int, 3> chosen_at[kMaxCandidates];
+  out[0] = query;
+  chosen_at[0] = windows.coordinates(query);
+  int chosen = 1;
+  for (const RankedVoxel& entry : shortlist) {
+    if (chosen == k)
+      break;
+    const auto at = windows.coordinates(entry.voxel);
+    bool outside = true;
+    for (int c = 0; c < chosen && outside; ++c)
+      outside = !windows.inside(chosen_at[c], at);
+    if (outside) {
+      out[chosen] = entry.voxel;
+      chosen_at[chosen++] = at;
+    }
+  }
+  for (; chosen < k; ++chosen)
+    out[chosen] = out[chosen - 1];
+}
+
+} // namespace
+
+SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGrid& features,
+                                     const SimilarityOptions& options) {
+  TEXSIM_VERIFY(options.k >= 1 && options.k <= kMaxCandidates,
+                "similarity sets: k must be in [1, " << kMaxCandidates << "], got " << options.k);
+  TEXSIM_VERIFY(options.window >= 1,
+                "similarity sets: window must be positive, got " << options.window);
+  const std::size_t voxels = features.voxel_count();
+  TEXSIM_VERIFY(voxels > 0 && voxels <= static_cast<std::size_t>(
+                                            std::numeric_limits<std::int32_t>::max() / options.k),
+                "similarity sets: " << voxels << " voxels do not fit 32-bit candidate indices");
+  const auto n = static_cast<std::int32_t>(voxels);
+  const int k = options.k;
+  const ExclusionWindows windows{features.dims(), options.window / 2, options.periodic};
+
+  // This rank's contiguous range of query voxels.
+  const auto range_start = [&](int rank) {
+    return static_cast<std::int32_t>(static_cast<std::int64_t>(n) * rank / comm.size);
+  };
+  const std::int32_t first = range_start(comm.rank);
+  const std::int32_t last = range_start(comm.rank + 1);
+  std::vector<std::int32_t> local(static_cast<std::size_t>(last - first) * k);
+
+  if (k == 1) {
+    for (std::int32_t v = first; v < last; ++v)
+      local[static_cast<std::size_t>(v - first)] = v;
+  } else {
+    const NearestOutsideWindows scanner(features, windows, k - 1);
+    const std::int32_t tasks = (last - first + kQueriesPerTask - 1) / kQueriesPerTask;
+    Progress progress(comm.size > 1 ? "similarity sets (rank 0's share)" : "similarity sets",
+                      last - first, "voxels");
+    std::atomic<std::int64_t> done{0};
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int32_t task = 0; task < tasks; ++task) {
+      const std::int32_t begin = first + task * kQueriesPerTask;
+      const std::int32_t end = std::min(last, begin + kQueriesPerTask);
+      const auto lists = scanner.shortlists(begin, end);
+      for (std::int32_t q = begin; q < end; ++q)
+        select_candidates(q, lists[static_cast<std::size_t>(q - begin)], windows, k,
+                          local.data() + static_cast<std::size_t>(q - first) * k);
+      const std::int64_t finished = done += end - begin;
+      if (omp_get_thread_num() == 0)
+        progress.update(finished);
+    }
+    progress.update(done);
+    progress.finish();
+  }
+
+  SimilaritySets sets{features.dims(), k, std::vector<std::int32_t>(voxels * k)};
+  std::vector<int> counts(static_cast<std::size_t>(comm.size));
+  std::vector<int> offsets(static_cast<std::size_t>(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[r] = range_start(r) * k;
+    counts[r] = (range_start(r + 1) - range_start(r)) * k;
+  }
+  MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_INT32_T, sets.candidates.data(),
+                 counts.data(), offsets.data(), MPI_INT32_T, comm.raw);
+  return sets;
+}
+
+} // namespace texsim::pipelines::solid_synthesis

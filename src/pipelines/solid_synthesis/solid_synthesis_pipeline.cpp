@@ -1,0 +1,180 @@
+#include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
+
+#include "core/log.hpp"
+#include "core/progress.hpp"
+#include "io/checkpoint_store.hpp"
+#include "par/collective.hpp"
+#include "pipelines/solid_synthesis/level_checkpoint.hpp"
+#include "pipelines/solid_synthesis/similarity_set_cache.hpp"
+#include "pipelines/solid_synthesis/synthesis_metrics.hpp"
+#include "pipelines/solid_synthesis/synthesis_exemplar.hpp"
+#include "pipelines/solid_synthesis/synthesis_result.hpp"
+
+#include <algorithm>
+#include <memory>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// Samples per axis the neighbourhood-error metric aims for when no stride is configured.
+constexpr int kMetricSamplesPerAxis = 16;
+
+/// The similarity sets of one stack level: from the cache when it holds them for exactly these
+/// features and options, else computed and stored there.
+SimilaritySets obtain_similarity_sets(const par::Comm& comm, const vol::ChannelGrid& features,
+                                      const SimilarityOptions& options,
+                                      const std::filesystem::path& cache_dir, bool& from_cache) {
+  const std::string key = similarity_cache_key(features, options);
+  const auto file = cache_dir / ("similarity_sets_" + key + ".h5");
+  if (!cache_dir.empty())
+    if (auto cached = load_similarity_sets(comm, file, key)) {
+      from_cache = true;
+      return std::move(*cached);
+    }
+  from_cache = false;
+  SimilaritySets sets = build_similarity_sets(comm, features, options);
+  if (!cache_dir.empty())
+    save_similarity_sets(comm, file, key, sets);
+  return sets;
+}
+
+nlohmann::json level_json(const LevelStats& stats) {
+  return {{"level", stats.level},
+          {"spacing", stats.spacing},
+          {"stack_level", stats.stack_level},
+          {"corrected", stats.corrected},
+          {"mean_match_distance", stats.mean_match_distance}};
+}
+
+} // namespace
+
+void SolidSynthesisPipeline::configure(const ConfigSection& section, const RunSettings&) {
+  settings_ = read_solid_synthesis_settings(section);
+}
+
+void SolidSynthesisPipeline::run(RunContext& ctx) {
+  const auto& comm = ctx.comm;
+  const auto& run = ctx.settings;
+  auto& report = ctx.report;
+
+  Exemplar exemplar;
+  AppearanceSpace space;
+  {
+    auto stage = ctx.timers.scope("exemplar");
+    par::run_collectively(comm, [&] {
+      exemplar = load_exemplar(settings_.exemplar);
+      require_exemplar_fits_window(exemplar, settings_.exemplar, settings_.appearance.window);
+    });
+    const auto dims = exemplar.colours.dims();
+    log::info(log::cat("exemplar: ", exemplar.description, ", ", dims.nx, " x ", dims.ny, " x ",
+                       dims.nz, " x ", exemplar.colours.channels(), " channels"));
+  }
+  {
+    auto stage = ctx.timers.scope("features");
+    par::run_collectively(comm,
+                          [&] { space = build_appearance_space(exemplar.colours, settings_.appearance); });
+    nlohmann::json retained = nlohmann::json::array();
+    for (const auto& level : space.levels)
+      retained.push_back(level.retained_variance);
+    const auto dims = space.colours.dims();
+    report.metric("exemplar", {{"description", exemplar.description},
+                               {"dims", {dims.nx, dims.ny, dims.nz}},
+                               {"channels", space.colours.channels()},
+                               {"stack_levels", space.levels.size()},
+                               {"pca_retained_variance", retained}});
+  }
+
+  const int pyramid_levels = settings_.synthesis.levels;
+  std::vector<SimilaritySets> sets(space.levels.size());
+  {
+    auto stage = ctx.timers.scope("similarity_sets");
+    nlohmann::json cache_use = nlohmann::json::object();
+    for (const int s : corrected_stack_levels(space, pyramid_levels)) {
+      bool from_cache = false;
+      sets[s] = obtain_similarity_sets(comm, space.levels[s].features, settings_.similarity,
+                                       settings_.cache_dir, from_cache);
+      cache_use[std::to_string(s)] = from_cache ? "cache" : "computed";
+      log::info(log::cat("similarity sets, stack level ", s, ": ",
+                         from_cache ? "read from the cache" : "computed"));
+    }
+    report.metric("similarity_sets", {{"k", settings_.similarity.k},
+                                      {"window", settings_.similarity.window},
+                                      {"levels", cache_use}});
+  }
+  if (settings_.mode == RunMode::similarity_sets)
+    return;
+
+  std::unique_ptr<AxesField> field;
+  if (settings_.field)
+    par::run_collectively(comm, [&] { field = make_axes_field(*settings_.field); });
+  SynthesisOptions options = settings_.synthesis;
+  options.seed = run.seed;
+  const PyramidSynthesizer synthesizer(comm, make_synthesis_exemplar(space, sets), options,
+                                       field.get());
+
+  io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
+                            run.checkpoint_keep);
+  std::unique_ptr<CoordinateSlab> slab;
+  nlohmann::json levels = nlohmann::json::array();
+  {
+    auto stage = ctx.timers.scope("synthesis");
+    if (run.restart) {
+      const auto found = store.resolve(*run.restart);
+      for (const auto& skipped : found.skipped)
+        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
+      slab = std::make_unique<CoordinateSlab>(
+          load_level(comm, found.reader, exemplar.content_hash));
+      log::info(log::cat("restarted from ", found.reader.path().string(), " after level ",
+                         level_of(*slab)));
+    }
+    Progress progress("solid_synthesis", pyramid_levels + 1, "levels");
+    for (int level = slab ? level_of(*slab) + 1 : 0; level <= pyramid_levels; ++level) {
+      LevelStats stats;
+      slab = std::make_unique<CoordinateSlab>(
+          level == 0 ? synthesizer.first_level(stats) : synthesizer.next_level(*slab, stats));
+      levels.push_back(level_json(stats));
+      log::info(log::cat("level ", level, ": ", slab->size(), "^3 voxels, spacing ",
+                         stats.spacing, stats.corrected ? ", corrected" : ", not corrected",
+                         stats.corrected ? log::cat(", mean match distance ",
+                                                    stats.mean_match_distance)
+                                         : std::string()));
+      if (run.checkpoint_every > 0 &&
+          (level % run.checkpoint_every == 0 || level == pyramid_levels)) {
+        auto checkpoint = ctx.timers.scope("checkpoint");
+        save_level(comm, store, *slab, exemplar.content_hash);
+      }
+      progress.update(level + 1);
+    }
+    progress.finish();
+  }
+  report.metric("levels", levels);
+
+  auto stage = ctx.timers.scope("output");
+  const SynthesisResult result = gather_result(comm, *slab, settings_.dims, space.colours);
+  par::run_collectively(comm, [&] {
+    if (!comm.is_root())
+      return;
+    for (const auto& path : write_result(run.output_dir, result, settings_.cross_sections))
+      report.output(path.string());
+    const int largest = *std::max_element(settings_.dims.begin(), settings_.dims.end());
+    const int stride = settings_.metric_stride > 0
+                           ? settings_.metric_stride
+                           : std::max(1, largest / kMetricSamplesPerAxis);
+    const auto& finest = space.levels.front();
+    const double error = neighbourhood_error(
+        result.colours, finest.features,
+        [&](const vol::ChannelGrid& colours, int i, int j, int k, std::span<float> out) {
+          project_neighbourhood(finest, colours, i, j, k, out);
+        },
+        stride);
+    const double histogram = histogram_distance(result.colours, space.colours);
+    report.metric("quality", {{"neighbourhood_error", error},
+                              {"neighbourhood_error_stride", stride},
+                              {"histogram_distance", histogram}});
+    log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ",
+                       histogram));
+  });
+  report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});
+}
+
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,31 @@
+#pragma once
+/// The finished synthesis on rank 0: the exemplar-coordinate volume S cropped to the requested
+/// size, and the colours it selects from the exemplar; and the files a user opens from it.
+#include "pipelines/solid_synthesis/coordinate_slab.hpp"
+#include "vol/channel_grid.hpp"
+
+#include <array>
+#include <filesystem>
+#include <vector>
+
+namespace texsim::pipelines::solid_synthesis {
+
+struct SynthesisResult {
+  vol::ChannelGrid coordinates; ///< S: 3 channels, exemplar voxel x, y, z
+  vol::ChannelGrid colours;     ///< exemplar colours at S (1 or 3 channels)
+};
+
+/// Gathers the finest level's slabs to rank 0, cropped to `dims`, and looks up the colours.
+/// Collective; only rank 0's result is filled.
+SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
+                              const std::array<int, 3>& dims, const vol::ChannelGrid& exemplar);
+
+/// Writes (call on rank 0 only): <dir>/solid_synthesis.vdb and .vti (a Vec3s/3-component "colour"
+/// array, or a float "density" for scalar exemplars), exemplar_coordinates.vti (S, to re-colour
+/// with another channel of the exemplar), and PNG cross-sections at X = Y = Z = each of
+/// `cross_sections` in <dir>/slices. Returns the paths written.
+std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir,
+                                                const SynthesisResult& result,
+                                                const std::vector<int>& cross_sections);
+
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,33 @@
+#pragma once
+/// Axis-aligned cross sections of a volume as PNG pictures, the way solid texture results are
+/// shown (Su 2008 chapter 5): the planes x = const (YZ), y = const (XZ) and z = const (XY), and
+/// the three side by side.
+///
+/// Orientation: a plane's first remaining axis runs to the right and its second one upwards
+/// (YZ: y right, z up; XZ: x right, z up; XY: x right, y up), so the pictures read like plots.
+#include "img/image.hpp"
+#include "vol/channel_grid.hpp"
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace texsim::vol {
+
+/// The plane `axis` (0: x, 1: y, 2: z) = `position` of a 1-channel (grey) or 3-channel (RGB)
+/// grid, oriented as above. Throws InputError if `position` is outside the grid.
+img::RgbImage cross_section(const ChannelGrid& colours, int axis, int position);
+
+/// Writes `<basename>_x<p0>.png` (the YZ plane x = positions[0]), `<basename>_y<p1>.png` (XZ),
+/// `<basename>_z<p2>.png` (XY) and `<basename>_slices.png` (the three in that order, left to
+/// right, bottom-aligned on a white background with a 4-pixel gap) into `directory`, created if
+/// missing, and returns their paths in that order. Colours are clamped to [0, 1] and written with
+/// 8 bits. Throws InputError naming the axis if a position is outside the grid, Error naming the
+/// file if a file cannot be written. Not collective: call on one rank.
+std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::path& directory,
+                                                        const std::string& basename,
+                                                        const ChannelGrid& colours,
+                                                        const std::array<int, 3>& positions);
+
+} // namespace texsim::vol

@@ -1,0 +1,113 @@
+#include "pipelines/solid_synthesis/coordinate_slab.hpp"
+#include "pipelines/solid_synthesis/correction_stencil.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// A value that names voxel (i, j, k) of a level of size n uniquely.
+Coord label(int i, int j, int k, int n) {
+  return {i, j, k + 1000 * n};
+}
+
+TEST(LevelLayout, SlabsTileEachLevelAndNestUnderTheirParents) {
+  for (int ranks = 1; ranks <= 5; ++ranks)
+    for (int level = 0; level <= 8; ++level) {
+      int next = 0;
+      for (int r = 0; r < ranks; ++r) {
+        const LevelLayout layout = level_layout(level, r, ranks);
+        EXPECT_EQ(layout.size, 1 << level);
+        if (layout.replicated) {
+          EXPECT_EQ(layout.z_begin, 0);
+          EXPECT_EQ(layout.z_end, layout.size);
+          continue;
+        }
+        EXPECT_EQ(layout.z_begin, next);
+        EXPECT_GE(layout.z_end - layout.z_begin, kSlabHalo);
+        next = layout.z_end;
+        // Every child plane's parent plane is owned by the same rank at the level above.
+        const LevelLayout parent = level_layout(level - 1, r, ranks);
+        if (!parent.replicated) {
+          EXPECT_EQ(parent.z_begin * 2, layout.z_begin);
+          EXPECT_EQ(parent.z_end * 2, layout.z_end);
+        }
+      }
+      if (!level_layout(level, 0, ranks).replicated) {
+        EXPECT_EQ(next, 1 << level);
+      }
+    }
+}
+
+TEST(CoordinateSlab, HaloHoldsThePeriodicNeighbourPlanes) {
+  const par::Comm comm = par::world();
+  for (int level : {0, 1, 2, 4, 5}) {
+    CoordinateSlab slab(level_layout(level, comm.rank, comm.size));
+    const LevelLayout& layout = slab.layout();
+    const int n = layout.size;
+    for (int k = layout.z_begin; k < layout.z_end; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          slab.at(i, j, k) = label(i, j, k, n);
+    slab.exchange_halo(comm);
+    for (int k = layout.z_begin - kSlabHalo; k < layout.z_end + kSlabHalo; ++k)
+      for (int j = -2; j < n + 2; ++j)
+        for (int i = -2; i < n + 2; ++i)
+          ASSERT_EQ(slab.at(i, j, k),
+                    label(((i % n) + n) % n, ((j % n) + n) % n, ((k % n) + n) % n, n))
+              << "level " << level << " voxel " << i << " " << j << " " << k;
+  }
+}
+
+TEST(CorrectionStencil, IsometricStencilIsEquationFour) {
+  for (int h : {1, 2, 8}) {
+    const CorrectionStencil stencil =
+        make_stencil(h, Eigen::Matrix3f::Identity(), Eigen::Matrix3f::Identity());
+    for (int d = 0; d < kDiagonalCount; ++d) {
+      const Coord delta{d & 1 ? 1 : -1, d & 2 ? 1 : -1, d & 4 ? 1 : -1};
+      EXPECT_EQ(stencil.source[d], delta);
+      EXPECT_EQ(stencil.source_shift[d], (Coord{h * delta.x, h * delta.y, h * delta.z}));
+      EXPECT_EQ(stencil.exemplar_offset[d], (Coord{h * delta.x, h * delta.y, h * delta.z}));
+      // N(p; Delta) = 1/4 sum_M V[S[p + Delta + M Delta] - h M Delta].
+      const Coord m_delta[4] = {{0, 0, 0}, {delta.x, 0, 0}, {0, delta.y, 0}, {0, 0, delta.z}};
+      for (int m = 0; m < kSubNeighbourCount; ++m) {
+        EXPECT_EQ(stencil.sample[d][m], delta + m_delta[m]);
+        EXPECT_EQ(stencil.sample_shift[d][m],
+                  (Coord{-h * m_delta[m].x, -h * m_delta[m].y, -h * m_delta[m].z}));
+      }
+    }
+  }
+}
+
+TEST(CorrectionStencil, RotationTurnsTheNeighbourDirections) {
+  // A quarter turn about z: the field's axes are R, the Jacobian R^-1. The neighbour that stands
+  // for exemplar direction Delta sits at R Delta in the output.
+  const Eigen::Matrix3f rotation =
+      Eigen::AngleAxisf(float(M_PI / 2), Eigen::Vector3f::UnitZ()).toRotationMatrix();
+  const CorrectionStencil stencil = make_stencil(1, rotation.inverse(), rotation);
+  for (int d = 0; d < kDiagonalCount; ++d) {
+    const Eigen::Vector3f delta(d & 1 ? 1 : -1, d & 2 ? 1 : -1, d & 4 ? 1 : -1);
+    const Eigen::Vector3f turned = rotation * delta;
+    EXPECT_EQ(stencil.source[d], (Coord{int(std::lround(turned.x())), int(std::lround(turned.y())),
+                                        int(std::lround(turned.z()))}));
+    // Reading through the rotated neighbour predicts p's coordinate as S[q] - Delta.
+    EXPECT_EQ(stencil.source_shift[d], (Coord{int(delta.x()), int(delta.y()), int(delta.z())}));
+  }
+}
+
+TEST(ChildOffsets, IsometricChildrenAreSpacedByH) {
+  for (int h : {1, 2, 4}) {
+    const auto offsets = child_offsets(h, Eigen::Matrix3f::Identity());
+    for (int c = 0; c < 8; ++c) {
+      const Coord expected = offsets[0] + Coord{h * (c & 1), h * ((c >> 1) & 1), h * (c >> 2)};
+      EXPECT_EQ(offsets[c], expected) << "h " << h << " child " << c;
+    }
+  }
+}
+
+} // namespace
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,286 @@
+// Similarity sets against a brute-force reference written here from the definition (double
+// distances, an explicit window-exclusion loop over every voxel), on random, smooth and
+// quantised (tie-heavy) features, periodic and not, several k and window sizes, grids whose rows
+// do not fill whole SIMD chunks, and at every rank count the test runs with. Plus the cache file.
+#include "core/rng.hpp"
+#include "par/comm.hpp"
+#include "pipelines/solid_synthesis/similarity_set_cache.hpp"
+#include "pipelines/solid_synthesis/similarity_sets.hpp"
+#include "support/test_data.hpp"
+#include "support/test_files.hpp"
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+enum class Pattern { random, smooth, quantised };
+
+/// Features of `channels` floats per voxel: iid uniform; a sum of low-frequency waves (nearest
+/// neighbours in feature space are spatial neighbours, so the windows decide the answer); or
+/// uniform values rounded to three levels on two channels (large classes of exactly equal
+/// features, so ties decide the answer).
+vol::ChannelGrid make_features(vol::Dims dims, int channels, Pattern pattern, std::uint64_t seed) {
+  const CounterRng rng(seed, 11);
+  vol::ChannelGrid grid(dims, pattern == Pattern::quantised ? 2 : channels);
+  for (int z = 0; z < dims.nz; ++z)
+    for (int y = 0; y < dims.ny; ++y)
+      for (int x = 0; x < dims.nx; ++x) {
+        const std::size_t v = grid.index(x, y, z);
+        auto f = grid.voxel(v);
+        for (int c = 0; c < grid.channels(); ++c) {
+          const double u = rng.uniform(v, 0, static_cast<std::uint32_t>(c));
+          if (pattern == Pattern::random) {
+            f[c] = static_cast<float>(u);
+          } else if (pattern == Pattern::quantised) {
+            f[c] = static_cast<float>(std::floor(3.0 * u) / 3.0);
+          } else {
+            double sum = 0.0;
+            for (int wave = 0; wave < 3; ++wave) {
+              const double kx = 1 + (c + wave) % 2, ky = 1 + (c + 2 * wave) % 3, kz = 1 + wave % 2;
+              const double phase = rng.uniform(1000 + c, 0, static_cast<std::uint32_t>(wave));
+              sum += std::sin(2.0 * M_PI *
+                              (kx * x / dims.nx + ky * y / dims.ny + kz * z / dims.nz + phase));
+            }
+            f[c] = static_cast<float>(sum + 0.01 * u);
+          }
+        }
+      }
+  return grid;
+}
+
+std::array<int, 3> coordinates(vol::Dims dims, std::int32_t v) {
+  return {v % dims.nx, v / dims.nx % dims.ny, v / (dims.nx * dims.ny)};
+}
+
+/// Whether voxel b lies in the n x n x n window centred on voxel a.
+bool in_window(vol::Dims dims, const SimilarityOptions& options, const std::array<int, 3>& a,
+               const std::array<int, 3>& b) {
+  const int sizes[3] = {dims.nx, dims.ny, dims.nz};
+  for (int axis = 0; axis < 3; ++axis) {
+    int d = std::abs(a[axis] - b[axis]);
+    if (options.periodic)
+      d = std::min(d, sizes[axis] - d);
+    if (d > options.window / 2)
+      return false;
+  }
+  return true;
+}
+
+/// The similarity sets straight from the definition, one voxel at a time: all distances, then
+/// k - 1 rounds of "the best voxel not yet excluded; exclude its window".
+class Reference {
+public:
+  Reference(const vol::ChannelGrid& features, const SimilarityOptions& options)
+      : features_(features), options_(options) {
+    for (std::int32_t v = 0; v < static_cast<std::int32_t>(features.voxel_count()); ++v)
+      at_.push_back(coordinates(features.dims(), v));
+  }
+
+  std::vector<std::int32_t> set(std::int32_t p) const {
+    const auto n = static_cast<std::int32_t>(features_.voxel_count());
+    std::vector<double> distance(static_cast<std::size_t>(n));
+    const auto fp = features_.voxel(static_cast<std::size_t>(p));
+    for (std::int32_t q = 0; q < n; ++q) {
+      const auto fq = features_.voxel(static_cast<std::size_t>(q));
+      double sum = 0.0;
+      for (std::size_t c = 0; c < fp.size(); ++c) {
+        const double diff = static_cast<double>(fq[c]) - static_cast<double>(fp[c]);
+        sum += diff * diff;
+      }
+      distance[static_cast<std::size_t>(q)] = sum;
+    }
+    std::vector<bool> excluded(static_cast<std::size_t>(n));
+    const auto exclude_window_of = [&](std::int32_t centre) {
+      for (std::int32_t q = 0; q < n; ++q)
+        if (in_window(features_.dims(), options_, at_[centre], at_[q]))
+          excluded[q] = true;
+    };
+    std::vector<std::int32_t> set{p};
+    exclude_window_of(p);
+    while (static_cast<int>(set.size()) < options_.k) {
+      std::int32_t best = -1;
+      // Ascending q and a strict comparison: ties go to the smaller index.
+      for (std::int32_t q = 0; q < n; ++q)
+        if (!excluded[q] && (best < 0 || distance[q] < distance[best]))
+          best = q;
+      if (best < 0) {
+        set.push_back(set.back());
+        continue;
+      }
+      set.push_back(best);
+      exclude_window_of(best);
+    }
+    return set;
+  }
+
+private:
+  const vol::ChannelGrid& features_;
+  SimilarityOptions options_;
+  std::vector<std::array<int, 3>> at_;
+};
+
+/// Voxels (every `stride`-th, split over the ranks) whose sets differ from the reference, summed
+/// over ranks. Collective.
+long mismatches(const par::Comm& comm, const vol::ChannelGrid& features,
+                const SimilarityOptions& options, const SimilaritySets& sets, int stride) {
+  long wrong = 0;
+  const Reference reference(features, options);
+  const auto n = static_cast<std::int32_t>(features.voxel_count());
+  for (std::int32_t v = comm.rank * stride; v < n; v += comm.size * stride) {
+    const auto expected = reference.set(v);
+    const std::vector<std::int32_t> got(sets.candidates.begin() + v * sets.k,
+                                        sets.candidates.begin() + (v + 1) * sets.k);
+    if (got != expected) {
+      if (wrong < 3)
+        ADD_FAILURE() << "voxel " << v << ": C_2.. = " << got[1] << " ... expected " << expected[1]
+                      << " ...";
+      ++wrong;
+    }
+  }
+  long total = 0;
+  MPI_Allreduce(&wrong, &total, 1, MPI_LONG, MPI_SUM, comm.raw);
+  return total;
+}
+
+struct Case {
+  const char* name;
+  vol::Dims dims;
+  int channels;
+  Pattern pattern;
+  SimilarityOptions options;
+  int stride; ///< reference check on every stride-th voxel
+};
+
+const Case kCases[] = {
+    {"random_16_periodic_k3_n7", {16, 16, 16}, 8, Pattern::random, {3, 7, true}, 1},
+    {"random_16_open_k5_n3", {16, 16, 16}, 8, Pattern::random, {5, 3, false}, 1},
+    {"smooth_16_periodic_k5_n7", {16, 16, 16}, 4, Pattern::smooth, {5, 7, true}, 1},
+    {"smooth_16_open_k3_n3", {16, 16, 16}, 8, Pattern::smooth, {3, 3, false}, 1},
+    {"random_24_periodic_k3_n7", {24, 24, 24}, 8, Pattern::random, {3, 7, true}, 7},
+    {"smooth_24_open_k3_n7", {24, 24, 24}, 8, Pattern::smooth, {3, 7, false}, 7},
+    {"smooth_24_periodic_k5_n3", {24, 24, 24}, 8, Pattern::smooth, {5, 3, true}, 7},
+    {"random_24_open_k5_n7", {24, 24, 24}, 3, Pattern::random, {5, 7, false}, 7},
+    {"ties_16_periodic_k3_n7", {16, 16, 16}, 2, Pattern::quantised, {3, 7, true}, 1},
+    {"ties_24_open_k5_n3", {24, 24, 24}, 2, Pattern::quantised, {5, 3, false}, 7},
+    // Rows of 19 and 33 voxels: partial SIMD chunks; flat grids: windows wrap onto themselves.
+    {"smooth_19x13x11_periodic_k5_n7", {19, 13, 11}, 8, Pattern::smooth, {5, 7, true}, 1},
+    {"random_33x9x4_open_k3_n7", {33, 9, 4}, 8, Pattern::random, {3, 7, false}, 1},
+    // Windows cover (nearly) everything: the last candidate repeats.
+    {"random_6x5x4_periodic_k3_n7", {6, 5, 4}, 8, Pattern::random, {3, 7, true}, 1},
+    {"random_8_open_k5_n7", {8, 8, 8}, 8, Pattern::random, {5, 7, false}, 1},
+    {"random_8_periodic_k1", {8, 8, 8}, 8, Pattern::random, {1, 7, true}, 1},
+};
+
+TEST(SimilaritySets, EqualBruteForceReference) {
+  const par::Comm comm = par::world();
+  for (const Case& c : kCases) {
+    SCOPED_TRACE(c.name);
+    const auto features = make_features(c.dims, c.channels, c.pattern, 7);
+    const SimilaritySets sets = build_similarity_sets(comm, features, c.options);
+    EXPECT_EQ(sets.dims, c.dims);
+    ASSERT_EQ(sets.k, c.options.k);
+    ASSERT_EQ(sets.candidates.size(), c.dims.count() * c.options.k);
+    EXPECT_EQ(mismatches(comm, features, c.options, sets, c.stride), 0);
+  }
+}
+
+TEST(SimilaritySets, CandidatesRespectTheWindows) {
+  const par::Comm comm = par::world();
+  const SimilarityOptions options{5, 7, true};
+  const auto features = make_features({24, 24, 24}, 8, Pattern::smooth, 3);
+  const SimilaritySets sets = build_similarity_sets(comm, features, options);
+  long violations = 0;
+  long beside_window = 0;
+  for (std::int32_t v = 0; v < static_cast<std::int32_t>(features.voxel_count()); ++v) {
+    const std::int32_t* c = sets.candidates.data() + static_cast<std::size_t>(v) * options.k;
+    violations += c[0] != v;
+    for (int j = 1; j < options.k; ++j)
+      for (int i = 0; i < j; ++i)
+        violations += in_window(sets.dims, options, coordinates(sets.dims, c[i]),
+                                coordinates(sets.dims, c[j]));
+    // Smooth features: the best match outside p's window is mostly right beside it.
+    const auto a = coordinates(sets.dims, v), b = coordinates(sets.dims, c[1]);
+    int distance = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int d = std::abs(a[axis] - b[axis]);
+      distance = std::max(distance, std::min(d, 24 - d));
+    }
+    beside_window += distance == options.window / 2 + 1;
+  }
+  EXPECT_EQ(violations, 0);
+  // Shows the windows matter here: without them C_2 would be a direct neighbour.
+  EXPECT_GT(beside_window, static_cast<long>(features.voxel_count() / 2));
+}
+
+TEST(SimilaritySets, RejectsNonFiniteFeatures) {
+  const par::Comm comm = par::world();
+  auto features = make_features({8, 8, 8}, 4, Pattern::random, 1);
+  features.voxel(100)[2] = std::nanf("");
+  EXPECT_THROW(build_similarity_sets(comm, features, {}), Error);
+}
+
+TEST(SimilaritySetCache, KeyNamesFeaturesAndOptions) {
+  auto features = make_features({8, 8, 8}, 4, Pattern::random, 1);
+  const SimilarityOptions options;
+  const std::string key = similarity_cache_key(features, options);
+  EXPECT_EQ(key.rfind("8x8x8x4-k3-n7-torus-", 0), 0u) << key;
+  EXPECT_EQ(similarity_cache_key(make_features({8, 8, 8}, 4, Pattern::random, 1), options), key);
+  EXPECT_NE(similarity_cache_key(features, {5, 7, true}), key);
+  EXPECT_NE(similarity_cache_key(features, {3, 5, true}), key);
+  EXPECT_NE(similarity_cache_key(features, {3, 7, false}), key);
+  features.voxel(511)[3] += 1e-6f;
+  EXPECT_NE(similarity_cache_key(features, options), key);
+}
+
+TEST(SimilaritySetCache, RoundTripAndRefusals) {
+  const par::Comm comm = par::world();
+  const auto dir = test::scratch_dir("similarity_set_cache");
+  const auto file = dir / "cache" / "sets.h5"; // the directory does not exist yet
+  const SimilarityOptions options{4, 5, false};
+  const auto features = make_features({12, 10, 9}, 6, Pattern::smooth, 2);
+  const std::string key = similarity_cache_key(features, options);
+  const SimilaritySets sets = build_similarity_sets(comm, features, options);
+
+  EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "no file yet";
+  save_similarity_sets(comm, file, key, sets);
+  const auto loaded = load_similarity_sets(comm, file, key);
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->dims, sets.dims);
+  EXPECT_EQ(loaded->k, sets.k);
+  EXPECT_EQ(loaded->candidates, sets.candidates);
+  EXPECT_FALSE(std::filesystem::exists(dir / "cache" / ".sets.h5.tmp"));
+
+  const std::string other_key = similarity_cache_key(features, {4, 7, false});
+  EXPECT_FALSE(load_similarity_sets(comm, file, other_key).has_value()) << "key mismatch";
+
+  // A file holding sets that cannot be right (C_1(v) != v) is not used.
+  SimilaritySets broken = sets;
+  broken.candidates[sets.k * 5] = 6;
+  save_similarity_sets(comm, file, key, broken);
+  EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "inconsistent sets";
+
+  // Truncated and foreign files are not used; saving again replaces them.
+  save_similarity_sets(comm, file, key, sets);
+  if (comm.is_root())
+    std::filesystem::resize_file(file, std::filesystem::file_size(file) / 2);
+  comm.barrier();
+  EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "truncated file";
+  if (comm.is_root())
+    test::write_bytes(file, test::Bytes(4096, 0x5a));
+  comm.barrier();
+  EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "not an HDF5 file";
+  save_similarity_sets(comm, file, key, sets);
+  const auto again = load_similarity_sets(comm, file, key);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->candidates, sets.candidates);
+}
+
+} // namespace
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,106 @@
+#include "vol/cross_section_writer.hpp"
+
+#include "img/image_io.hpp"
+#include "support/input_error.hpp"
+#include "support/test_data.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace texsim::vol {
+namespace {
+
+/// A 5 x 6 x 7 grid whose every voxel has a distinct colour built from its coordinates.
+ChannelGrid coordinate_colours(int channels) {
+  ChannelGrid grid({5, 6, 7}, channels);
+  for (int k = 0; k < 7; ++k) {
+    for (int j = 0; j < 6; ++j) {
+      for (int i = 0; i < 5; ++i) {
+        auto c = grid.voxel(grid.index(i, j, k));
+        c[0] = (i + 0.5f) / 5.0f;
+        if (channels == 3) {
+          c[1] = (j + 0.5f) / 6.0f;
+          c[2] = (k + 0.5f) / 7.0f;
+        } else {
+          c[0] = (i + 5 * (j + 6 * k) + 0.5f) / 210.0f;
+        }
+      }
+    }
+  }
+  return grid;
+}
+
+/// The largest channel difference between picture pixel (x, y) and voxel (i, j, k).
+float difference(const img::RgbImage& picture, int x, int y, const ChannelGrid& grid, int i, int j,
+                 int k) {
+  const auto voxel = grid.voxel(grid.index(i, j, k));
+  const img::Rgb& pixel = picture.at(x, y);
+  float worst = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    worst = std::max(worst, std::abs(pixel[c] - voxel[grid.channels() == 3 ? c : 0]));
+  }
+  return worst;
+}
+
+TEST(CrossSectionWriter, WrittenPlanesReadBackAsTheSlicesWithinOneLevel) {
+  for (const int channels : {1, 3}) {
+    const auto dir = test::scratch_dir("vol_cross_sections_" + std::to_string(channels));
+    const ChannelGrid grid = coordinate_colours(channels);
+    const auto paths = write_cross_sections(dir / "out", "result", grid, {1, 4, 6});
+    ASSERT_EQ(paths.size(), 4u);
+    EXPECT_EQ(paths[0], dir / "out" / "result_x1.png");
+    EXPECT_EQ(paths[1], dir / "out" / "result_y4.png");
+    EXPECT_EQ(paths[2], dir / "out" / "result_z6.png");
+    EXPECT_EQ(paths[3], dir / "out" / "result_slices.png");
+    const img::RgbImage yz = img::read_image(paths[0]);
+    const img::RgbImage xz = img::read_image(paths[1]);
+    const img::RgbImage xy = img::read_image(paths[2]);
+    const img::RgbImage all = img::read_image(paths[3]);
+    // YZ: y right, z up; XZ: x right, z up; XY: x right, y up.
+    ASSERT_EQ(yz.width(), 6);
+    ASSERT_EQ(yz.height(), 7);
+    ASSERT_EQ(xz.width(), 5);
+    ASSERT_EQ(xz.height(), 7);
+    ASSERT_EQ(xy.width(), 5);
+    ASSERT_EQ(xy.height(), 6);
+    ASSERT_EQ(all.width(), 6 + 4 + 5 + 4 + 5);
+    ASSERT_EQ(all.height(), 7);
+    constexpr float kLevel = 1.0f / 255.0f;
+    for (int k = 0; k < 7; ++k) {
+      for (int j = 0; j < 6; ++j) {
+        EXPECT_LE(difference(yz, j, 6 - k, grid, 1, j, k), kLevel);
+        EXPECT_LE(difference(all, j, 6 - k, grid, 1, j, k), kLevel);
+      }
+      for (int i = 0; i < 5; ++i) {
+        EXPECT_LE(difference(xz, i, 6 - k, grid, i, 4, k), kLevel);
+        EXPECT_LE(difference(all, 10 + i, 6 - k, grid, i, 4, k), kLevel);
+      }
+    }
+    for (int j = 0; j < 6; ++j) {
+      for (int i = 0; i < 5; ++i) {
+        EXPECT_LE(difference(xy, i, 5 - j, grid, i, j, 6), kLevel);
+        EXPECT_LE(difference(all, 19 + i, 6 - j, grid, i, j, 6), kLevel); // bottom-aligned
+      }
+    }
+    EXPECT_EQ(all.at(7, 3), img::Rgb::grey(1.0f));  // the gap
+    EXPECT_EQ(all.at(20, 0), img::Rgb::grey(1.0f)); // above the shorter XY picture
+  }
+}
+
+TEST(CrossSectionWriter, PositionOutsideTheGridIsAnInputError) {
+  const auto dir = test::scratch_dir("vol_cross_sections_errors");
+  const ChannelGrid grid = coordinate_colours(3);
+  EXPECT_EQ(test::input_error_message([&] {
+              write_cross_sections(dir, "r", grid, {0, 6, 0});
+            }),
+            "cross section y = 6 is outside the volume (0 to 5)");
+  EXPECT_EQ(test::input_error_message([&] {
+              write_cross_sections(dir, "r", grid, {-1, 0, 0});
+            }),
+            "cross section x = -1 is outside the volume (0 to 4)");
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+} // namespace
+} // namespace texsim::vol
