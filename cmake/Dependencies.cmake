@@ -32,5 +32,3 @@ find_package(muparser REQUIRED)
 # OpenBLAS (not the reference BLAS that Debian's libblas.so may resolve to): cblas for dense
 # kernels and openblas_set_num_threads, so BLAS does not spawn threads inside our OpenMP regions.
 pkg_check_modules(OPENBLAS REQUIRED IMPORTED_TARGET openblas)
-# faiss: exact nearest-neighbour search for quality metrics.
-find_package(faiss REQUIRED)

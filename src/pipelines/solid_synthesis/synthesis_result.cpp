@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <string>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -80,8 +81,9 @@ std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir
   vol::write_vti(coordinates, vol::to_rgb(result.coordinates), "exemplar_coordinate");
   written.insert(written.end(), {vdb, vti, coordinates});
   for (const int p : cross_sections) {
-    const auto slices = vol::write_cross_sections(dir / "slices", "solid_synthesis",
-                                                  result.colours, {p, p, p});
+    // One set per position: the combined image is named after the basename alone.
+    const auto slices = vol::write_cross_sections(
+        dir / "slices", "solid_synthesis_" + std::to_string(p), result.colours, {p, p, p});
     written.insert(written.end(), slices.begin(), slices.end());
   }
   return written;
