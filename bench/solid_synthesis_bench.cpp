@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   texsim::par::PetscSession session(argc, argv);
   const Comm comm = texsim::par::world();
   const BenchSettings settings = parse_arguments(argc, argv);
-  const auto exemplar = texsim::vol::to_channels(texsim::vol::marble_exemplar(settings.exemplar, 1));
+  const auto exemplar =
+      texsim::vol::to_channels(texsim::vol::marble_exemplar(settings.exemplar, 1));
 
   AppearanceSpace space;
   std::vector<double> feature_times;
@@ -117,19 +118,18 @@ int main(int argc, char** argv) {
   const double memory_mb = texsim::bench::peak_memory_mb(comm);
   if (comm.is_root()) {
     const double voxels = double(1 << levels) * (1 << levels) * (1 << levels);
-    const nlohmann::json out = {
-        {"ranks", comm.size},
-        {"threads", omp_get_max_threads()},
-        {"exemplar", settings.exemplar},
-        {"size", 1 << levels},
-        {"passes", settings.passes},
-        {"features_s", texsim::bench::median(feature_times)},
-        {"similarity_sets_s", sets_s},
-        {"similarity_sets_computed_levels", computed},
-        {"synthesis_s", synthesis_s},
-        {"synthesis_level_s", level_times},
-        {"voxels_per_s", voxels / synthesis_s},
-        {"vm_hwm_mb_max", memory_mb}};
+    const nlohmann::json out = {{"ranks", comm.size},
+                                {"threads", omp_get_max_threads()},
+                                {"exemplar", settings.exemplar},
+                                {"size", 1 << levels},
+                                {"passes", settings.passes},
+                                {"features_s", texsim::bench::median(feature_times)},
+                                {"similarity_sets_s", sets_s},
+                                {"similarity_sets_computed_levels", computed},
+                                {"synthesis_s", synthesis_s},
+                                {"synthesis_level_s", level_times},
+                                {"voxels_per_s", voxels / synthesis_s},
+                                {"vm_hwm_mb_max", memory_mb}};
     std::cout << out.dump() << std::endl;
   }
   return 0;

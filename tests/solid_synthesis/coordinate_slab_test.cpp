@@ -1,3 +1,4 @@
+#include "pipelines/solid_synthesis/anisometric_field.hpp"
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "pipelines/solid_synthesis/correction_stencil.hpp"
 
@@ -6,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <random>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -97,6 +99,96 @@ TEST(CorrectionStencil, RotationTurnsTheNeighbourDirections) {
     // Reading through the rotated neighbour predicts p's coordinate as S[q] - Delta.
     EXPECT_EQ(stencil.source_shift[d], (Coord{int(delta.x()), int(delta.y()), int(delta.z())}));
   }
+}
+
+/// Eqs. (6)-(7) written out entry by entry, one Eigen product, normalisation and std::floor
+/// each: what make_stencil's batched evaluation must reproduce bit for bit.
+CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a,
+                                  const Eigen::Matrix3f& a_inverse) {
+  const auto rounded = [](const Eigen::Vector3f& v) {
+    return Coord{static_cast<std::int32_t>(std::floor(v.x() + 0.5f)),
+                 static_cast<std::int32_t>(std::floor(v.y() + 0.5f)),
+                 static_cast<std::int32_t>(std::floor(v.z() + 0.5f))};
+  };
+  const auto warped = [&](const Eigen::Vector3f& d) {
+    const Eigen::Vector3f phi = a_inverse * d;
+    const float length = phi.norm();
+    return length > 0.0f ? rounded(phi / length) : rounded(d.normalized());
+  };
+  const auto shift = [&](const Coord& o) {
+    return rounded(static_cast<float>(h) *
+                   (a * Eigen::Vector3f(float(o.x), float(o.y), float(o.z))));
+  };
+  CorrectionStencil stencil;
+  for (int d = 0; d < kDiagonalCount; ++d) {
+    const Eigen::Vector3f delta(d & 1 ? 1.0f : -1.0f, d & 2 ? 1.0f : -1.0f, d & 4 ? 1.0f : -1.0f);
+    const Coord h_delta{h * int(delta.x()), h * int(delta.y()), h * int(delta.z())};
+    stencil.exemplar_offset[d] = h_delta;
+    stencil.source[d] = warped(delta);
+    stencil.source_shift[d] = shift(stencil.source[d]);
+    for (int m = 0; m < kSubNeighbourCount; ++m) {
+      Eigen::Vector3f m_delta = Eigen::Vector3f::Zero();
+      if (m > 0)
+        m_delta[m - 1] = delta[m - 1];
+      const Coord offset = stencil.source[d] + (m > 0 ? warped(m_delta) : Coord{});
+      stencil.sample[d][m] = offset;
+      stencil.sample_shift[d][m] = h_delta - shift(offset);
+    }
+  }
+  return stencil;
+}
+
+void expect_same_stencil(const CorrectionStencil& actual, const CorrectionStencil& expected,
+                         const Eigen::Matrix3f& a_inverse, int h) {
+  for (int d = 0; d < kDiagonalCount; ++d) {
+    EXPECT_EQ(actual.source[d], expected.source[d]) << "h " << h << ", A^-1\n" << a_inverse;
+    EXPECT_EQ(actual.source_shift[d], expected.source_shift[d]) << "h " << h << ", A^-1\n"
+                                                                << a_inverse;
+    EXPECT_EQ(actual.exemplar_offset[d], expected.exemplar_offset[d]);
+    for (int m = 0; m < kSubNeighbourCount; ++m) {
+      EXPECT_EQ(actual.sample[d][m], expected.sample[d][m]) << "h " << h << ", A^-1\n" << a_inverse;
+      EXPECT_EQ(actual.sample_shift[d][m], expected.sample_shift[d][m]) << "h " << h << ", A^-1\n"
+                                                                        << a_inverse;
+    }
+  }
+}
+
+TEST(CorrectionStencil, MatchesTheLiteralFormulaBitForBit) {
+  // Frames F = A^-1 as sample_level makes them (|det| >= kSingularFrameDeterminant): rotations
+  // (the built-in fields), general frames with scale and shear, frames with entries on a 1/4
+  // grid, whose products h A o land exactly on rounding boundaries, and frames whose x axis
+  // (1, sqrt(3) cos t, sqrt(3) sin t) normalises to x = 1/2 give or take the rounding of |.|.
+  std::mt19937 rng(2008);
+  std::uniform_real_distribution<float> entry(-2.0f, 2.0f);
+  int compared = 0;
+  for (int trial = 0; trial < 8000; ++trial) {
+    Eigen::Matrix3f frame;
+    for (int e = 0; e < 9; ++e)
+      frame(e) = entry(rng);
+    if (trial % 4 == 0) {
+      const Eigen::Vector3f axis(entry(rng), entry(rng), entry(rng));
+      if (!(axis.norm() > 0.0f))
+        continue;
+      frame = Eigen::AngleAxisf(2.0f * entry(rng), axis.normalized()).toRotationMatrix();
+    } else if (trial % 4 == 2) {
+      frame = (4.0f * frame).array().round() / 4.0f;
+    } else if (trial % 4 == 3) {
+      const float t = 2.0f * entry(rng);
+      frame.col(0) =
+          Eigen::Vector3f(1.0f, std::sqrt(3.0f) * std::cos(t), std::sqrt(3.0f) * std::sin(t));
+    }
+    if (!(std::abs(frame.determinant()) >= kSingularFrameDeterminant))
+      continue;
+    const Eigen::Matrix3f jacobian = frame.inverse();
+    for (int h : {1, 2, 8, 64}) {
+      expect_same_stencil(make_stencil(h, jacobian, frame), literal_stencil(h, jacobian, frame),
+                          frame, h);
+      if (::testing::Test::HasFailure())
+        return;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 7000);
 }
 
 TEST(ChildOffsets, IsometricChildrenAreSpacedByH) {

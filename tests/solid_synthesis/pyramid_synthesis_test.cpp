@@ -43,8 +43,8 @@ Prepared prepare(const vol::RgbGrid& exemplar, int levels) {
 }
 
 /// The finest level's exemplar coordinates and colours, gathered on rank 0 of `comm`.
-SynthesisResult synthesize(const par::Comm& comm, const Prepared& prepared, int levels,
-                           int passes, const AxesField* field = nullptr) {
+SynthesisResult synthesize(const par::Comm& comm, const Prepared& prepared, int levels, int passes,
+                           const AxesField* field = nullptr) {
   SynthesisOptions options;
   options.levels = levels;
   options.correction_passes = passes;
@@ -72,8 +72,8 @@ double error_of(const Prepared& prepared, const vol::ChannelGrid& colours) {
 TEST(PyramidSynthesis, SameBytesOnAnyRankCount) {
   const Prepared prepared = prepare(vol::marble_exemplar(16, 3), 5);
   const auto slant = rotation_field(Eigen::Vector3d::UnitZ(), 30.0);
-  for (const AxesField* field : {static_cast<const AxesField*>(nullptr),
-                                 static_cast<const AxesField*>(slant.get())}) {
+  for (const AxesField* field :
+       {static_cast<const AxesField*>(nullptr), static_cast<const AxesField*>(slant.get())}) {
     const SynthesisResult distributed = synthesize(par::world(), prepared, 5, 2, field);
     if (par::world().rank != 0)
       continue;
@@ -110,8 +110,8 @@ TEST(PyramidSynthesis, CorrectionPassesLowerTheNeighbourhoodError) {
   }
   if (par::world().rank != 0)
     return;
-  std::printf("marble: neighbourhood error %.4f / %.4f / %.4f after 0 / 1 / 3 passes\n",
-              errors[0], errors[1], errors[2]);
+  std::printf("marble: neighbourhood error %.4f / %.4f / %.4f after 0 / 1 / 3 passes\n", errors[0],
+              errors[1], errors[2]);
   EXPECT_LT(errors[1], 0.8 * errors[0]);
   EXPECT_LE(errors[2], errors[1] * 1.02);
 }
@@ -125,8 +125,8 @@ TEST(PyramidSynthesis, SlantFieldTurnsStripesByItsAngle) {
     return;
   const double straight = xy_stripe_orientation_degrees(isometric.colours);
   const double angle = xy_stripe_orientation_degrees(turned.colours);
-  std::printf("stripes: %.1f degrees isometric, %.1f degrees under the 30 degree slant\n",
-              straight, angle);
+  std::printf("stripes: %.1f degrees isometric, %.1f degrees under the 30 degree slant\n", straight,
+              angle);
   EXPECT_NEAR(straight, 0.0, 10.0);
   EXPECT_NEAR(angle, 30.0, 10.0);
 }

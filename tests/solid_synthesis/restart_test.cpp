@@ -2,8 +2,8 @@
 // to 32^3, a checkpoint after every pyramid level) gives the same volume bytes at -n 1, 2 and 3;
 // a copy of the -n 2 run that lost the checkpoints after level 3 (a job killed mid-pyramid) and is
 // continued with --restart, at -n 2 and at -n 3, ends with the same bytes too; and the second run
-// reads its similarity sets from the cache the first one wrote. The texsim runs are child jobs
-// (support/run_command.hpp); this program itself runs on one rank.
+// reads its appearance space and similarity sets from the cache the first one wrote. The texsim
+// runs are child jobs (support/run_command.hpp); this program itself runs on one rank.
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
@@ -93,8 +93,9 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
       ASSERT_TRUE(fs::remove(copy / file));
     const auto outcome = run_smoke(ranks, copy, dir_ / "cache", "--restart");
     ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
-    EXPECT_NE(outcome.output.find("restarted from " + checkpoint_path(copy, kLastKeptLevel).string()),
-              std::string::npos)
+    EXPECT_NE(
+        outcome.output.find("restarted from " + checkpoint_path(copy, kLastKeptLevel).string()),
+        std::string::npos)
         << outcome.output;
     // Only the levels after the checkpoint were synthesized again.
     EXPECT_EQ(read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
@@ -102,11 +103,13 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
   }
 }
 
-TEST_F(SolidSynthesisRuns, SecondRunReadsTheSimilaritySetsFromTheCache) {
+TEST_F(SolidSynthesisRuns, SecondRunReadsFeaturesAndSimilaritySetsFromTheCache) {
   const fs::path out = dir_ / "cached";
   const auto outcome = run_smoke(2, out, dir_ / "cache");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
-  for (const auto& [level, source] : read_summary(out)["metrics"]["similarity_sets"]["levels"].items())
+  EXPECT_EQ(read_summary(out)["metrics"]["exemplar"]["features"], "cache");
+  for (const auto& [level, source] :
+       read_summary(out)["metrics"]["similarity_sets"]["levels"].items())
     EXPECT_EQ(source, "cache") << "stack level " << level;
   expect_same_volumes(dir_ / "n2", out);
 }

@@ -48,7 +48,9 @@ void CoordinateSlab::exchange_halo(const par::Comm& comm) {
   const int owned_planes = layout_.z_end - layout_.z_begin;
   Coord* data = values_.data();
   // Local plane index of global plane z (halo planes included).
-  const auto local = [&](int z) { return static_cast<std::size_t>(z - layout_.z_begin + kSlabHalo); };
+  const auto local = [&](int z) {
+    return static_cast<std::size_t>(z - layout_.z_begin + kSlabHalo);
+  };
 
   if (layout_.replicated) {
     const int n = layout_.size;

@@ -5,9 +5,9 @@
 ///
 /// One formula covers both cases. A synthesized voxel q predicts p's exemplar coordinate as
 /// S[q] - h A (q - p) (A maps output displacements to exemplar ones, h = h_l the level's spacing),
-/// so the exemplar position of p's neighbour Delta, read through q, is S[q] - h A (q - p) + h Delta.
-/// With A = I and q = p + Delta + M Delta this is eq. (4), S[p + Delta + Delta'] - Delta' h; the
-/// thesis prints it without h, which is only right at the finest level (h = 1). The warped
+/// so the exemplar position of p's neighbour Delta, read through q, is S[q] - h A (q - p) + h
+/// Delta. With A = I and q = p + Delta + M Delta this is eq. (4), S[p + Delta + Delta'] - Delta' h;
+/// the thesis prints it without h, which is only right at the finest level (h = 1). The warped
 /// neighbour directions are phi~(Delta) = A^-1 Delta / |A^-1 Delta| rounded to the nearest voxel
 /// (Lefebvre and Hoppe 2005, section 6), which for A = I gives back Delta.
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
@@ -37,7 +37,9 @@ struct CorrectionStencil {
   std::array<Coord, kDiagonalCount> exemplar_offset;
 };
 
-/// The stencil at spacing h for Jacobian A and its inverse (identity: the isometric case).
+/// The stencil at spacing h for Jacobian A and its inverse (identity: the isometric case). A pure
+/// function of (h, A, A^-1), evaluated in batches that give the bits of the per-entry Eigen
+/// formula (coordinate_slab_test.cpp compares the two): every anisometric voxel needs its own.
 CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
                                const Eigen::Matrix3f& inverse_jacobian);
 

@@ -16,8 +16,8 @@ std::uint64_t plane_size(int n) {
 
 } // namespace
 
-void save_level(const par::Comm& comm, const io::CheckpointStore& store,
-                const CoordinateSlab& slab, const std::string& exemplar_hash) {
+void save_level(const par::Comm& comm, const io::CheckpointStore& store, const CoordinateSlab& slab,
+                const std::string& exemplar_hash) {
   static_assert(sizeof(Coord) == 3 * sizeof(std::int32_t));
   const LevelLayout& layout = slab.layout();
   const int level = level_of(slab);

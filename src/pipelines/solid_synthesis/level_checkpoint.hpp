@@ -10,8 +10,8 @@ namespace texsim::pipelines::solid_synthesis {
 
 /// Writes level `level(slab)` as checkpoint step `level`, tagged with the exemplar's content hash.
 /// Collective.
-void save_level(const par::Comm& comm, const io::CheckpointStore& store,
-                const CoordinateSlab& slab, const std::string& exemplar_hash);
+void save_level(const par::Comm& comm, const io::CheckpointStore& store, const CoordinateSlab& slab,
+                const std::string& exemplar_hash);
 
 /// Reads the level stored in `reader` into a slab laid out for this rank. InputError naming the
 /// file when it was written for another exemplar (same config, changed file contents) or holds

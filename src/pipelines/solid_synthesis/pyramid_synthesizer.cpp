@@ -7,9 +7,13 @@
 #include <Eigen/Core>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <optional>
+#include <span>
 #include <utility>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -49,8 +53,9 @@ private:
 class ExemplarLevelView {
 public:
   ExemplarLevelView(const vol::ChannelGrid& features, const SimilaritySets& sets)
-      : features_(features.data().data()), k_(sets.k), channels_(features.channels()),
-        wrap_x_(features.dims().nx, 1), wrap_y_(features.dims().ny, features.dims().nx),
+      : features_(cache_line_aligned_copy(features.data(), feature_storage_)), k_(sets.k),
+        channels_(features.channels()), wrap_x_(features.dims().nx, 1),
+        wrap_y_(features.dims().ny, features.dims().nx),
         wrap_z_(features.dims().nz, std::int64_t{features.dims().nx} * features.dims().ny),
         candidates_(sets.candidates.size()) {
     const vol::Dims dims = features.dims();
@@ -68,12 +73,27 @@ public:
   /// Storage index of the exemplar voxel at coordinate c, wrapped.
   std::int64_t index(const Coord& c) const { return wrap_x_(c.x) + wrap_y_(c.y) + wrap_z_(c.z); }
   const float* feature(const Coord& c) const { return features_ + index(c) * channels_; }
-  /// C_{i+1} of the exemplar voxel at coordinate c.
-  const Coord& candidate(const Coord& c, int i) const {
-    return candidates_[static_cast<std::size_t>(index(c) * k_ + i)];
+  /// C_1..k of the exemplar voxel at coordinate c.
+  const Coord* candidates(const Coord& c) const {
+    return candidates_.data() + static_cast<std::size_t>(index(c) * k_);
   }
 
 private:
+  /// A copy of `values` inside `storage`, starting on a cache-line boundary: a voxel of 8
+  /// channels then fills half a line, where at the allocator's 16-byte alignment every other
+  /// voxel straddles two lines, two cache misses instead of one.
+  static const float* cache_line_aligned_copy(std::span<const float> values,
+                                              std::vector<float>& storage) {
+    constexpr std::size_t kLineFloats = 64 / sizeof(float);
+    storage.resize(values.size() + kLineFloats);
+    const std::size_t misalignment =
+        reinterpret_cast<std::uintptr_t>(storage.data()) % 64 / sizeof(float);
+    float* start = storage.data() + (kLineFloats - misalignment) % kLineFloats;
+    std::copy(values.begin(), values.end(), start);
+    return start;
+  }
+
+  std::vector<float> feature_storage_; // before features_, which points into it
   const float* features_;
   int k_;
   int channels_;
@@ -81,21 +101,89 @@ private:
   std::vector<Coord> candidates_;
 };
 
+/// The stencil of the last voxel a thread corrected, reused while A and A^-1 keep the same bits
+/// (constant fields, the rows of a zigzag field): make_stencil is a pure function of them.
+class StencilCache {
+public:
+  explicit StencilCache(int h) : h_(h) {}
+
+  const CorrectionStencil& get(const Eigen::Matrix3f& jacobian,
+                               const Eigen::Matrix3f& inverse_jacobian) {
+    if (!valid_ || !same_bits(jacobian, jacobian_) ||
+        !same_bits(inverse_jacobian, inverse_jacobian_)) {
+      stencil_ = make_stencil(h_, jacobian, inverse_jacobian);
+      jacobian_ = jacobian;
+      inverse_jacobian_ = inverse_jacobian;
+      valid_ = true;
+    }
+    return stencil_;
+  }
+
+private:
+  static bool same_bits(const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
+    return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
+  }
+
+  int h_;
+  bool valid_ = false;
+  Eigen::Matrix3f jacobian_, inverse_jacobian_;
+  CorrectionStencil stencil_;
+};
+
+/// Per-thread buffers of best_match.
+struct MatchScratch {
+  explicit MatchScratch(const ExemplarLevelView& exemplar)
+      : neighbourhood(kDiagonalCount * exemplar.channels()),
+        candidates(kDiagonalCount * exemplar.k()),
+        reads(kDiagonalCount * std::max(kSubNeighbourCount, kDiagonalCount * exemplar.k())) {}
+
+  std::vector<float> neighbourhood; ///< N_S(p): 8 averages of `channels` floats
+  std::vector<Coord> candidates;    ///< the 8k candidates, direction-major
+  std::vector<const float*> reads;  ///< feature pointers of one phase
+};
+
 /// The best of the 8k candidates for voxel p: eqs. (3)-(4) (or (6)-(7)) against N_E(u).
-/// `scratch` holds 8 * channels floats for N_S(p).
+///
+/// A voxel reads about 200 scattered exemplar voxels, mostly cache misses once the exemplar
+/// outgrows the caches (anisometric results are less coherent, so neighbouring voxels share
+/// fewer of them). Each phase therefore first computes its addresses and prefetches them all, so
+/// the misses overlap instead of stalling one candidate at a time; the arithmetic and its order
+/// are those of the plain loops.
 std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, int k,
                                     const CorrectionStencil& stencil,
-                                    const ExemplarLevelView& exemplar, float* neighbourhood) {
+                                    const ExemplarLevelView& exemplar, MatchScratch& scratch) {
   const int d = exemplar.channels();
+  const int n_candidates = kDiagonalCount * exemplar.k();
+  const float** reads = scratch.reads.data();
+
+  const Coord* similarity_sets[kDiagonalCount];
+  for (int dir = 0; dir < kDiagonalCount; ++dir) {
+    const Coord& source = stencil.source[dir];
+    similarity_sets[dir] = exemplar.candidates(slab.at(i + source.x, j + source.y, k + source.z));
+    __builtin_prefetch(similarity_sets[dir]);
+    __builtin_prefetch(similarity_sets[dir] + exemplar.k() - 1);
+  }
+  for (int dir = 0; dir < kDiagonalCount; ++dir)
+    for (int m = 0; m < kSubNeighbourCount; ++m) {
+      const Coord& offset = stencil.sample[dir][m];
+      const Coord at =
+          slab.at(i + offset.x, j + offset.y, k + offset.z) + stencil.sample_shift[dir][m];
+      const float* f = exemplar.feature(at);
+      __builtin_prefetch(f);
+      reads[dir * kSubNeighbourCount + m] = f;
+    }
+  Coord* candidates = scratch.candidates.data();
+  for (int dir = 0; dir < kDiagonalCount; ++dir)
+    for (int n = 0; n < exemplar.k(); ++n)
+      candidates[dir * exemplar.k() + n] = similarity_sets[dir][n] - stencil.source_shift[dir];
+
+  float* neighbourhood = scratch.neighbourhood.data();
   for (int dir = 0; dir < kDiagonalCount; ++dir) {
     float* average = neighbourhood + dir * d;
     for (int c = 0; c < d; ++c)
       average[c] = 0.0f;
     for (int m = 0; m < kSubNeighbourCount; ++m) {
-      const Coord& offset = stencil.sample[dir][m];
-      const Coord at = slab.at(i + offset.x, j + offset.y, k + offset.z) +
-                       stencil.sample_shift[dir][m];
-      const float* f = exemplar.feature(at);
+      const float* f = reads[dir * kSubNeighbourCount + m];
       for (int c = 0; c < d; ++c)
         average[c] += f[c];
     }
@@ -103,26 +191,27 @@ std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, in
       average[c] *= 1.0f / kSubNeighbourCount;
   }
 
+  for (int n = 0; n < n_candidates; ++n)
+    for (int e = 0; e < kDiagonalCount; ++e) {
+      const float* f = exemplar.feature(candidates[n] + stencil.exemplar_offset[e]);
+      __builtin_prefetch(f);
+      reads[n * kDiagonalCount + e] = f;
+    }
   Coord best = slab.at(i, j, k);
   float best_distance = std::numeric_limits<float>::infinity();
-  for (int dir = 0; dir < kDiagonalCount; ++dir) {
-    const Coord& source = stencil.source[dir];
-    const Coord neighbour = slab.at(i + source.x, j + source.y, k + source.z);
-    for (int n = 0; n < exemplar.k(); ++n) {
-      const Coord candidate = exemplar.candidate(neighbour, n) - stencil.source_shift[dir];
-      float distance = 0.0f;
-      for (int e = 0; e < kDiagonalCount && distance < best_distance; ++e) {
-        const float* f = exemplar.feature(candidate + stencil.exemplar_offset[e]);
-        const float* target = neighbourhood + e * d;
-        for (int c = 0; c < d; ++c) {
-          const float diff = f[c] - target[c];
-          distance += diff * diff;
-        }
+  for (int n = 0; n < n_candidates; ++n) {
+    float distance = 0.0f;
+    for (int e = 0; e < kDiagonalCount && distance < best_distance; ++e) {
+      const float* f = reads[n * kDiagonalCount + e];
+      const float* target = neighbourhood + e * d;
+      for (int c = 0; c < d; ++c) {
+        const float diff = f[c] - target[c];
+        distance += diff * diff;
       }
-      if (distance < best_distance) {
-        best_distance = distance;
-        best = candidate;
-      }
+    }
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = candidates[n];
     }
   }
   return {best, best_distance};
@@ -179,8 +268,8 @@ CoordinateSlab PyramidSynthesizer::next_level(const CoordinateSlab& parent,
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const int child = (i & 1) + 2 * (j & 1) + 4 * (k & 1);
-        const Coord offset = jacobians ? child_offsets(h, jacobians->a(i, j, k))[child]
-                                       : isometric_children[child];
+        const Coord offset =
+            jacobians ? child_offsets(h, jacobians->a(i, j, k))[child] : isometric_children[child];
         slab.at(i, j, k) = wrapped(parent.at(i >> 1, j >> 1, k >> 1) + offset);
       }
   jitter(slab, level);
@@ -248,18 +337,18 @@ void PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
       double subpass_distance = 0.0;
 #pragma omp parallel reduction(+ : subpass_distance)
       {
-        std::vector<float> neighbourhood(kDiagonalCount * exemplar.channels());
+        StencilCache stencils(h);
+        MatchScratch scratch(exemplar);
 #pragma omp for schedule(static)
         for (int plane = 0; plane < class_planes; ++plane) {
           const int k = first_k + 2 * plane;
           for (int b = 0; b < row; ++b)
             for (int a = 0; a < row; ++a) {
               const int i = 2 * a + cx, j = 2 * b + cy;
-              const CorrectionStencil stencil =
-                  jacobians ? make_stencil(h, jacobians->a(i, j, k), jacobians->a_inverse(i, j, k))
+              const CorrectionStencil& stencil =
+                  jacobians ? stencils.get(jacobians->a(i, j, k), jacobians->a_inverse(i, j, k))
                             : isometric;
-              const auto [best, distance] =
-                  best_match(slab, i, j, k, stencil, exemplar, neighbourhood.data());
+              const auto [best, distance] = best_match(slab, i, j, k, stencil, exemplar, scratch);
               updates[(static_cast<std::size_t>(plane) * row + b) * row + a] = wrapped(best);
               subpass_distance += distance;
             }

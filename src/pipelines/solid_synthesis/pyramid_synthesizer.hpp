@@ -29,17 +29,17 @@ struct SynthesisExemplar {
 };
 
 struct SynthesisOptions {
-  int levels = 7;             ///< L: the finest level is 2^L voxels a side
-  double jitter = 0.7;        ///< r_l of eq. (2), the same at every level
-  int correction_passes = 2;  ///< passes of 8 subpasses per level
-  std::uint64_t seed = 1;     ///< key of the jitter hash
+  int levels = 7;            ///< L: the finest level is 2^L voxels a side
+  double jitter = 0.7;       ///< r_l of eq. (2), the same at every level
+  int correction_passes = 2; ///< passes of 8 subpasses per level
+  std::uint64_t seed = 1;    ///< key of the jitter hash
 };
 
 /// How one level went, for the run report.
 struct LevelStats {
   int level = 0;
-  int spacing = 0;      ///< h_l
-  int stack_level = 0;  ///< Gaussian-stack level whose features were matched
+  int spacing = 0;     ///< h_l
+  int stack_level = 0; ///< Gaussian-stack level whose features were matched
   bool corrected = false;
   /// Mean over the level's voxels of the squared appearance-space distance between N_S(p) and the
   /// chosen N_E(u) in the last pass (0 when not corrected).

@@ -4,10 +4,11 @@
 #include "core/progress.hpp"
 #include "io/checkpoint_store.hpp"
 #include "par/collective.hpp"
+#include "pipelines/solid_synthesis/appearance_space_cache.hpp"
 #include "pipelines/solid_synthesis/level_checkpoint.hpp"
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
-#include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 #include "pipelines/solid_synthesis/synthesis_exemplar.hpp"
+#include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 #include "pipelines/solid_synthesis/synthesis_result.hpp"
 
 #include <algorithm>
@@ -71,8 +72,22 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   }
   {
     auto stage = ctx.timers.scope("features");
-    par::run_collectively(comm,
-                          [&] { space = build_appearance_space(exemplar.colours, settings_.appearance); });
+    // The transformed exemplar is computed once per exemplar and options, then reused (3.1).
+    const std::string key = appearance_cache_key(exemplar.content_hash, settings_.appearance);
+    const auto cache_file = settings_.cache_dir / ("appearance_" + key + ".h5");
+    std::optional<AppearanceSpace> cached;
+    if (!settings_.cache_dir.empty())
+      cached = load_appearance_space(comm, cache_file, key);
+    const bool from_cache = cached.has_value();
+    if (from_cache) {
+      space = std::move(*cached);
+    } else {
+      par::run_collectively(
+          comm, [&] { space = build_appearance_space(exemplar.colours, settings_.appearance); });
+      if (!settings_.cache_dir.empty())
+        save_appearance_space(comm, cache_file, key, space);
+    }
+    log::info(log::cat("appearance space: ", from_cache ? "read from the cache" : "computed"));
     nlohmann::json retained = nlohmann::json::array();
     for (const auto& level : space.levels)
       retained.push_back(level.retained_variance);
@@ -81,7 +96,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
                                {"dims", {dims.nx, dims.ny, dims.nz}},
                                {"channels", space.colours.channels()},
                                {"stack_levels", space.levels.size()},
-                               {"pca_retained_variance", retained}});
+                               {"pca_retained_variance", retained},
+                               {"features", from_cache ? "cache" : "computed"}});
   }
 
   const int pyramid_levels = settings_.synthesis.levels;
@@ -122,22 +138,22 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       const auto found = store.resolve(*run.restart);
       for (const auto& skipped : found.skipped)
         log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-      slab = std::make_unique<CoordinateSlab>(
-          load_level(comm, found.reader, exemplar.content_hash));
+      slab =
+          std::make_unique<CoordinateSlab>(load_level(comm, found.reader, exemplar.content_hash));
       log::info(log::cat("restarted from ", found.reader.path().string(), " after level ",
                          level_of(*slab)));
     }
     Progress progress("solid_synthesis", pyramid_levels + 1, "levels");
     for (int level = slab ? level_of(*slab) + 1 : 0; level <= pyramid_levels; ++level) {
       LevelStats stats;
-      slab = std::make_unique<CoordinateSlab>(
-          level == 0 ? synthesizer.first_level(stats) : synthesizer.next_level(*slab, stats));
+      slab = std::make_unique<CoordinateSlab>(level == 0 ? synthesizer.first_level(stats)
+                                                         : synthesizer.next_level(*slab, stats));
       levels.push_back(level_json(stats));
-      log::info(log::cat("level ", level, ": ", slab->size(), "^3 voxels, spacing ",
-                         stats.spacing, stats.corrected ? ", corrected" : ", not corrected",
-                         stats.corrected ? log::cat(", mean match distance ",
-                                                    stats.mean_match_distance)
-                                         : std::string()));
+      log::info(log::cat("level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
+                         stats.corrected ? ", corrected" : ", not corrected",
+                         stats.corrected
+                             ? log::cat(", mean match distance ", stats.mean_match_distance)
+                             : std::string()));
       if (run.checkpoint_every > 0 &&
           (level % run.checkpoint_every == 0 || level == pyramid_levels)) {
         auto checkpoint = ctx.timers.scope("checkpoint");
@@ -157,9 +173,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     for (const auto& path : write_result(run.output_dir, result, settings_.cross_sections))
       report.output(path.string());
     const int largest = *std::max_element(settings_.dims.begin(), settings_.dims.end());
-    const int stride = settings_.metric_stride > 0
-                           ? settings_.metric_stride
-                           : std::max(1, largest / kMetricSamplesPerAxis);
+    const int stride = settings_.metric_stride > 0 ? settings_.metric_stride
+                                                   : std::max(1, largest / kMetricSamplesPerAxis);
     const auto& finest = space.levels.front();
     const double error = neighbourhood_error(
         result.colours, finest.features,
@@ -171,8 +186,7 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     report.metric("quality", {{"neighbourhood_error", error},
                               {"neighbourhood_error_stride", stride},
                               {"histogram_distance", histogram}});
-    log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ",
-                       histogram));
+    log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram));
   });
   report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});
 }

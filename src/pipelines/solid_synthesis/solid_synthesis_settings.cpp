@@ -43,8 +43,8 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
   const auto appearance = section.section("appearance");
   settings.appearance.dimensions =
       appearance.get<int>("dimensions", settings.appearance.dimensions, int_in_range(1, 64));
-  settings.appearance.window = appearance.get<int>("window", settings.appearance.window,
-                                                   int_in_range(1, 9));
+  settings.appearance.window =
+      appearance.get<int>("window", settings.appearance.window, int_in_range(1, 9));
   if (settings.appearance.window % 2 == 0)
     appearance.fail("window", "an odd integer (the neighbourhood is centred on the voxel)");
   settings.appearance.border = settings.exemplar.border;
@@ -63,16 +63,16 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
   settings.synthesis.levels = levels_for(settings.dims);
   settings.synthesis.jitter =
       synthesis.get<double>("jitter", settings.synthesis.jitter, in_range(0.0, 4.0));
-  settings.synthesis.correction_passes = synthesis.get<int>(
-      "passes", settings.synthesis.correction_passes, int_in_range(0, 16));
+  settings.synthesis.correction_passes =
+      synthesis.get<int>("passes", settings.synthesis.correction_passes, int_in_range(0, 16));
   settings.metric_stride = synthesis.get<int>("metric_stride", 0, non_negative_int());
 
   if (section.has("field"))
     settings.field = read_field_settings(section.section("field"));
 
   const int smallest = *std::min_element(settings.dims.begin(), settings.dims.end());
-  const std::vector<double> positions = section.get<std::vector<double>>(
-      "cross_sections", {static_cast<double>(smallest / 2)});
+  const std::vector<double> positions =
+      section.get<std::vector<double>>("cross_sections", {static_cast<double>(smallest / 2)});
   for (const double p : positions) {
     if (p != std::floor(p) || p < 0 || p >= smallest)
       section.fail("cross_sections", "voxel positions in [0, " + std::to_string(smallest - 1) +

@@ -28,7 +28,7 @@ struct SolidSynthesisSettings {
   std::filesystem::path cache_dir = "cache/solid_synthesis";
   /// Result size in voxels; the pyramid is the next power of two, cropped at the end.
   std::array<int, 3> dims{128, 128, 128};
-  SynthesisOptions synthesis; ///< `levels` follows from dims
+  SynthesisOptions synthesis;         ///< `levels` follows from dims
   std::optional<FieldSettings> field; ///< absent: isometric synthesis
   /// X = Y = Z positions of the PNG cross-sections (the thesis' figures use 126, 80 and 64).
   std::vector<int> cross_sections;

@@ -68,8 +68,7 @@ std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir
   const auto vti = dir / "solid_synthesis.vti";
   if (result.colours.channels() == 1) {
     vol::ScalarGrid density(result.colours.dims());
-    std::copy(result.colours.data().begin(), result.colours.data().end(),
-              density.data().begin());
+    std::copy(result.colours.data().begin(), result.colours.data().end(), density.data().begin());
     vol::write_vdb(vdb, density, "density");
     vol::write_vti(vti, density, "density");
   } else {
