@@ -1,5 +1,7 @@
 #include "pipelines/solid_synthesis/appearance_space_cache.hpp"
 
+#include "pipelines/solid_synthesis/keyed_cache_file.hpp"
+
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "io/hdf5_attribute.hpp"
@@ -224,28 +226,20 @@ std::string level_group(std::size_t s) {
 /// inconsistent file. Not collective.
 std::optional<AppearanceSpace> read_space(const std::filesystem::path& file, const std::string& key,
                                           const AppearanceOptions& options) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error))
-    return std::nullopt;
   try {
-    par::silence_hdf5_error_printing();
-    if (H5Fis_hdf5(file.c_str()) <= 0)
+    const std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
+    if (!h5)
       return std::nullopt;
-    const par::Hdf5Handle h5 = io::open_serial_file(file);
-    if (std::get<std::int64_t>(io::read_attribute(h5.get(), "format_version", file)) !=
-            kFormatVersion ||
-        std::get<std::string>(io::read_attribute(h5.get(), "key", file)) != key)
-      return std::nullopt;
-    const auto level_count = std::get<std::int64_t>(io::read_attribute(h5.get(), "levels", file));
+    const auto level_count = std::get<std::int64_t>(io::read_attribute(h5->get(), "levels", file));
     if (level_count < 1 || level_count > kMaxLevels)
       return std::nullopt;
     AppearanceSpace space;
-    space.periodic = std::get<std::int64_t>(io::read_attribute(h5.get(), "periodic", file)) != 0;
-    space.colours = read_grid(h5.get(), "colours", file.string());
+    space.periodic = std::get<std::int64_t>(io::read_attribute(h5->get(), "periodic", file)) != 0;
+    space.colours = read_grid(h5->get(), "colours", file.string());
     for (std::size_t s = 0; s < static_cast<std::size_t>(level_count); ++s) {
       const std::string where = file.string() + ": " + level_group(s);
       const par::Hdf5Handle group(
-          TEXSIM_HDF5_CALL(H5Gopen2(h5.get(), level_group(s).c_str(), H5P_DEFAULT), where),
+          TEXSIM_HDF5_CALL(H5Gopen2(h5->get(), level_group(s).c_str(), H5P_DEFAULT), where),
           H5Gclose);
       AppearanceLevel level;
       level.spacing = static_cast<int>(
@@ -273,28 +267,15 @@ std::optional<AppearanceSpace> read_space(const std::filesystem::path& file, con
 
 void write_space(const std::filesystem::path& file, const std::string& key,
                  const AppearanceSpace& space) {
-  if (file.has_parent_path())
-    std::filesystem::create_directories(file.parent_path());
-  std::string hidden_name = ".";
-  hidden_name += file.filename().string();
-  hidden_name += ".tmp";
-  const std::filesystem::path temporary = file.parent_path() / hidden_name;
-  try {
-    par::silence_hdf5_error_printing();
-    const std::string context = temporary.string();
-    par::Hdf5Handle h5(
-        TEXSIM_HDF5_CALL(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                         context),
-        H5Fclose);
-    write_dataset<float>(h5.get(), "colours", grid_shape(space.colours), space.colours.data(),
-                         context);
+  write_cache_file(file, key, kFormatVersion, [&](hid_t h5, const std::filesystem::path& path) {
+    const std::string context = path.string();
+    write_dataset<float>(h5, "colours", grid_shape(space.colours), space.colours.data(), context);
     for (std::size_t s = 0; s < space.levels.size(); ++s) {
       const AppearanceLevel& level = space.levels[s];
       const std::string where = context + ": " + level_group(s);
       const par::Hdf5Handle group(
           TEXSIM_HDF5_CALL(
-              H5Gcreate2(h5.get(), level_group(s).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-              where),
+              H5Gcreate2(h5, level_group(s).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), where),
           H5Gclose);
       write_dataset<float>(group.get(), "stack", grid_shape(space.stack[s]), space.stack[s].data(),
                            where);
@@ -306,22 +287,13 @@ void write_space(const std::filesystem::path& file, const std::string& key,
       write_dataset<double>(
           group.get(), "basis", {static_cast<hsize_t>(level.basis.cols()), components},
           std::span(level.basis.data(), static_cast<std::size_t>(level.basis.size())), where);
-      io::write_attribute(group.get(), "spacing", std::int64_t{level.spacing}, temporary);
-      io::write_attribute(group.get(), "window", std::int64_t{level.window}, temporary);
-      io::write_attribute(group.get(), "retained_variance", level.retained_variance, temporary);
+      io::write_attribute(group.get(), "spacing", std::int64_t{level.spacing}, path);
+      io::write_attribute(group.get(), "window", std::int64_t{level.window}, path);
+      io::write_attribute(group.get(), "retained_variance", level.retained_variance, path);
     }
-    io::write_attribute(h5.get(), "format_version", kFormatVersion, temporary);
-    io::write_attribute(h5.get(), "key", key, temporary);
-    io::write_attribute(h5.get(), "periodic", std::int64_t{space.periodic}, temporary);
-    io::write_attribute(h5.get(), "levels", static_cast<std::int64_t>(space.levels.size()),
-                        temporary);
-    TEXSIM_HDF5_CALL(h5.reset(), context << ": closing");
-    std::filesystem::rename(temporary, file);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+    io::write_attribute(h5, "periodic", std::int64_t{space.periodic}, path);
+    io::write_attribute(h5, "levels", static_cast<std::int64_t>(space.levels.size()), path);
+  });
 }
 
 } // namespace

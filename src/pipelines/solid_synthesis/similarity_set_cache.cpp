@@ -1,5 +1,7 @@
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
 
+#include "pipelines/solid_synthesis/keyed_cache_file.hpp"
+
 #include "core/error.hpp"
 #include "core/hash.hpp"
 #include "core/log.hpp"
@@ -56,21 +58,13 @@ KeyFields parse_key(const std::string& key) {
 /// inconsistent file. Not collective.
 std::optional<SimilaritySets> read_sets(const std::filesystem::path& file, const std::string& key,
                                         const KeyFields& expected) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error))
-    return std::nullopt;
   try {
-    par::silence_hdf5_error_printing();
-    if (H5Fis_hdf5(file.c_str()) <= 0)
-      return std::nullopt;
-    const par::Hdf5Handle h5 = io::open_serial_file(file);
-    if (std::get<std::int64_t>(io::read_attribute(h5.get(), "format_version", file)) !=
-            kFormatVersion ||
-        std::get<std::string>(io::read_attribute(h5.get(), "key", file)) != key)
+    const std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
+    if (!h5)
       return std::nullopt;
     const int k = expected.options.k;
     const par::Hdf5Handle data(
-        TEXSIM_HDF5_CALL(H5Dopen2(h5.get(), kDataset, H5P_DEFAULT), file.string()), H5Dclose);
+        TEXSIM_HDF5_CALL(H5Dopen2(h5->get(), kDataset, H5P_DEFAULT), file.string()), H5Dclose);
     const par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(data.get()), file.string()),
                                 H5Sclose);
     std::array<hsize_t, 4> shape{};
@@ -102,46 +96,24 @@ std::optional<SimilaritySets> read_sets(const std::filesystem::path& file, const
 
 void write_sets(const std::filesystem::path& file, const std::string& key, const KeyFields& fields,
                 const SimilaritySets& sets) {
-  if (file.has_parent_path())
-    std::filesystem::create_directories(file.parent_path());
-  std::string hidden_name = ".";
-  hidden_name += file.filename().string();
-  hidden_name += ".tmp";
-  const std::filesystem::path temporary = file.parent_path() / hidden_name;
-  try {
-    par::silence_hdf5_error_printing();
-    const std::string context = temporary.string();
-    par::Hdf5Handle h5(
-        TEXSIM_HDF5_CALL(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                         context),
-        H5Fclose);
+  write_cache_file(file, key, kFormatVersion, [&](hid_t h5, const std::filesystem::path& path) {
+    const std::string context = path.string();
     const std::array<hsize_t, 4> shape{
         static_cast<hsize_t>(sets.dims.nz), static_cast<hsize_t>(sets.dims.ny),
         static_cast<hsize_t>(sets.dims.nx), static_cast<hsize_t>(sets.k)};
     const par::Hdf5Handle space(
         TEXSIM_HDF5_CALL(H5Screate_simple(4, shape.data(), nullptr), context), H5Sclose);
-    {
-      const par::Hdf5Handle data(
-          TEXSIM_HDF5_CALL(H5Dcreate2(h5.get(), kDataset, H5T_STD_I32LE, space.get(), H5P_DEFAULT,
-                                      H5P_DEFAULT, H5P_DEFAULT),
-                           context << ": dataset " << kDataset),
-          H5Dclose);
-      TEXSIM_HDF5_CALL(H5Dwrite(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                                sets.candidates.data()),
-                       context << ": dataset " << kDataset);
-    }
-    io::write_attribute(h5.get(), "format_version", kFormatVersion, temporary);
-    io::write_attribute(h5.get(), "key", key, temporary);
-    io::write_attribute(h5.get(), "k", std::int64_t{sets.k}, temporary);
-    io::write_attribute(h5.get(), "window", std::int64_t{fields.options.window}, temporary);
-    io::write_attribute(h5.get(), "periodic", std::int64_t{fields.options.periodic}, temporary);
-    TEXSIM_HDF5_CALL(h5.reset(), context << ": closing");
-    std::filesystem::rename(temporary, file);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+    const par::Hdf5Handle data(TEXSIM_HDF5_CALL(H5Dcreate2(h5, kDataset, H5T_STD_I32LE, space.get(),
+                                                           H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                                context << ": dataset " << kDataset),
+                               H5Dclose);
+    TEXSIM_HDF5_CALL(H5Dwrite(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                              sets.candidates.data()),
+                     context << ": dataset " << kDataset);
+    io::write_attribute(h5, "k", std::int64_t{sets.k}, path);
+    io::write_attribute(h5, "window", std::int64_t{fields.options.window}, path);
+    io::write_attribute(h5, "periodic", std::int64_t{fields.options.periodic}, path);
+  });
 }
 
 } // namespace
