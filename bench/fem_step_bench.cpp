@@ -15,7 +15,7 @@
 #include "geom/generators.hpp"
 #include "par/cg_solver.hpp"
 #include "par/petsc_session.hpp"
-#include "pipelines/fem_rd/ghosted_field.hpp"
+#include "par/ghosted_vector.hpp"
 #include "pipelines/fem_rd/p1_assembler.hpp"
 #include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
 #include "pipelines/fem_rd/reaction_model.hpp"
@@ -234,7 +234,7 @@ nlohmann::json measure_species_step(const Comm& comm, const DistributedMesh& mes
       time_solves(comm, settings.repeats, solver, assembler, system, values, rhs, u, x);
   const double matmult_s =
       median_time(comm, 4 * settings.repeats, [&] { TEXSIM_PETSC_CALL(MatMult(system, u, x)); });
-  GhostedField field(comm, mesh);
+  texsim::par::GhostedVector field(comm, mesh.owned_count(), mesh.ghosts());
   const double ghost_update_s =
       median_time(comm, 4 * settings.repeats, [&] { field.update_ghosts(); });
   MatInfo info{};

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "pipelines/fem_rd/fem_rd_pipeline.hpp"
+#include "pipelines/turk_rd/turk_rd_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 #include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
 
@@ -15,6 +16,7 @@ using Factory = std::function<std::unique_ptr<pipelines::Pipeline>()>;
 const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> entries = {
       {"fem_rd", [] { return std::make_unique<pipelines::fem_rd::FemRdPipeline>(); }},
+      {"turk_rd", [] { return std::make_unique<pipelines::turk_rd::TurkRdPipeline>(); }},
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
       {"solid_synthesis",
        [] { return std::make_unique<pipelines::solid_synthesis::SolidSynthesisPipeline>(); }},

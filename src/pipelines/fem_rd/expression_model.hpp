@@ -47,6 +47,8 @@ public:
   void coefficients(double t, const std::vector<std::span<const double>>& state,
                     const VertexData& vertices,
                     std::vector<SpeciesCoefficients>& out) const override;
+  /// One set of parsers with bound variables: one caller at a time.
+  bool thread_safe() const override { return false; }
 
 private:
   struct Evaluator;

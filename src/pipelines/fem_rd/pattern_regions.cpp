@@ -1,5 +1,8 @@
 #include "pipelines/fem_rd/pattern_regions.hpp"
 
+#include "geom/graph_regions.hpp"
+
+#include <algorithm>
 #include <numeric>
 #include <vector>
 
@@ -11,28 +14,13 @@ RegionCount count_regions_above_mean(const geom::MeshTopology& topology,
   if (values.empty())
     return count;
   count.threshold = std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
-  const auto& neighbors = topology.vertex_neighbors();
-  std::vector<char> seen(values.size(), 0);
-  std::vector<std::int32_t> stack;
-  std::int64_t above = 0;
-  for (std::int32_t start = 0; start < std::int32_t(values.size()); ++start) {
-    if (seen[start] || values[start] <= count.threshold)
-      continue;
-    ++count.regions;
-    seen[start] = 1;
-    stack.push_back(start);
-    while (!stack.empty()) {
-      const std::int32_t v = stack.back();
-      stack.pop_back();
-      ++above;
-      for (const std::int32_t w : neighbors.row(v))
-        if (!seen[w] && values[w] > count.threshold) {
-          seen[w] = 1;
-          stack.push_back(w);
-        }
-    }
-  }
-  count.mean_vertices = count.regions ? double(above) / count.regions : 0.0;
+  std::vector<char> above(values.size());
+  for (std::size_t v = 0; v < values.size(); ++v)
+    above[v] = values[v] > count.threshold;
+  const auto labels = geom::label_regions(topology.vertex_neighbors(), above);
+  count.regions = 1 + *std::max_element(labels.begin(), labels.end());
+  const auto vertices_above = std::count(above.begin(), above.end(), 1);
+  count.mean_vertices = count.regions ? double(vertices_above) / count.regions : 0.0;
   return count;
 }
 

@@ -9,7 +9,7 @@
 /// geometry and are rebuilt by rebuild_geometry(); each step recomputes only the weighted mass.
 #include "geom/distributed_mesh.hpp"
 #include "par/cg_solver.hpp"
-#include "pipelines/fem_rd/ghosted_field.hpp"
+#include "par/ghosted_vector.hpp"
 #include "pipelines/fem_rd/p1_assembler.hpp"
 #include "pipelines/fem_rd/reaction_model.hpp"
 
@@ -60,7 +60,7 @@ private:
   RdOptions options_;
   P1Assembler assembler_;
   std::vector<std::string> names_;
-  std::vector<std::unique_ptr<GhostedField>> fields_;
+  std::vector<std::unique_ptr<par::GhostedVector>> fields_;
   std::vector<std::unique_ptr<par::CgSolver>> solvers_;
   std::vector<par::PetscMat> systems_; ///< M_w + tau C0C1 K, one per species
   par::PetscMat mass_;                 ///< M (unit weight)

@@ -4,6 +4,7 @@
 #include "pipelines/fem_rd/expression_model.hpp"
 #include "pipelines/fem_rd/fitzhugh_nagumo_model.hpp"
 #include "pipelines/fem_rd/forced_oscillator_model.hpp"
+#include "pipelines/fem_rd/meinhardt_stripes_model.hpp"
 #include "pipelines/fem_rd/turing_spots_model.hpp"
 
 namespace texsim::pipelines::fem_rd {
@@ -19,7 +20,13 @@ void resize_coefficients(std::vector<SpeciesCoefficients>& out, std::size_t spec
 
 namespace {
 
-enum class ModelType { kTuringSpots, kFitzHughNagumo, kForcedOscillator, kExpression };
+enum class ModelType {
+  kTuringSpots,
+  kMeinhardtStripes,
+  kFitzHughNagumo,
+  kForcedOscillator,
+  kExpression
+};
 
 std::unique_ptr<ReactionModel> read_turing_spots(const ConfigSection& model, std::uint64_t seed) {
   TuringSpotsParameters p;
@@ -31,6 +38,21 @@ std::unique_ptr<ReactionModel> read_turing_spots(const ConfigSection& model, std
   p.initial_a = model.get("initial_a", p.initial_a);
   p.initial_b = model.get("initial_b", p.initial_b);
   return std::make_unique<TuringSpotsModel>(p, seed);
+}
+
+std::unique_ptr<ReactionModel> read_meinhardt_stripes(const ConfigSection& model,
+                                                      std::uint64_t seed) {
+  MeinhardtStripesParameters p;
+  p.c = model.get("c", p.c, positive());
+  p.alpha = model.get("alpha", p.alpha, positive());
+  p.beta = model.get("beta", p.beta, positive());
+  p.gamma = model.get("gamma", p.gamma, non_negative());
+  p.rho0 = model.get("rho0", p.rho0, non_negative());
+  p.rho1 = model.get("rho1", p.rho1, non_negative());
+  p.diffusion_g = model.get("diffusion_g", p.diffusion_g, non_negative());
+  p.diffusion_s = model.get("diffusion_s", p.diffusion_s, non_negative());
+  p.substrate_spread = model.get("substrate_spread", p.substrate_spread, in_range(0.0, 0.5));
+  return std::make_unique<MeinhardtStripesModel>(p, seed);
 }
 
 std::unique_ptr<ReactionModel> read_fitzhugh_nagumo(const ConfigSection& model,
@@ -86,12 +108,15 @@ std::unique_ptr<ReactionModel> read_expression(const ConfigSection& model, std::
 std::unique_ptr<ReactionModel> make_reaction_model(const ConfigSection& model, std::uint64_t seed) {
   const auto type = model.choice<ModelType>("type", ModelType::kTuringSpots,
                                             {{"turing_spots", ModelType::kTuringSpots},
+                                             {"meinhardt_stripes", ModelType::kMeinhardtStripes},
                                              {"fitzhugh_nagumo", ModelType::kFitzHughNagumo},
                                              {"forced_oscillator", ModelType::kForcedOscillator},
                                              {"expression", ModelType::kExpression}});
   switch (type) {
   case ModelType::kTuringSpots:
     return read_turing_spots(model, seed);
+  case ModelType::kMeinhardtStripes:
+    return read_meinhardt_stripes(model, seed);
   case ModelType::kFitzHughNagumo:
     return read_fitzhugh_nagumo(model, seed);
   case ModelType::kForcedOscillator:

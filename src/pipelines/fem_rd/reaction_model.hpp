@@ -57,6 +57,9 @@ public:
   virtual double lower_bound(std::size_t species) const {
     return -std::numeric_limits<double>::infinity();
   }
+
+  /// Whether coefficients() may run on several threads at once (on disjoint vertex blocks).
+  virtual bool thread_safe() const { return true; }
 };
 
 /// Sizes `out` to `species` entries of `vertices` values each (used by every model's

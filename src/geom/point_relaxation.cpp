@@ -1,0 +1,391 @@
+#include "geom/point_relaxation.hpp"
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "core/rng.hpp"
+#include "geom/mesh_measures.hpp"
+#include "geom/random_surface_points.hpp"
+#include "par/morton_partition.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <numeric>
+#include <utility>
+
+namespace texsim::geom {
+namespace {
+
+/// CounterRng stream for the separation direction of coincident points.
+constexpr std::uint32_t kCoincidentPointStream = 0x5402;
+
+/// Uniform hash grid over a point set: cells of a given size hashed into about two buckets per
+/// point. Each bucket stores its points contiguously (cell key, position, tag, original index)
+/// in increasing index order, so a cell's points are read from one run of memory, hash
+/// collisions are filtered by the key and no cell is visited twice.
+class PointGrid {
+public:
+  struct Slot {
+    std::uint64_t key;
+    Vec3 position;
+    std::int64_t tag;   ///< caller's label of the point (a global id)
+    std::int32_t index; ///< index in the span the grid was built from
+  };
+
+  PointGrid(std::span<const Vec3> points, std::span<const std::int64_t> tags, double cell) {
+    const Box3 box = Box3::around(points);
+    origin_ = box.empty() ? Vec3::Zero() : box.lo;
+    const double extent = box.empty() ? 0.0 : (box.hi - box.lo).maxCoeff();
+    // At most 2^20 cells per axis so that keys fit in 21 bits per axis with room for rings.
+    cell_ = std::max({cell, extent / double(1 << 20), std::numeric_limits<double>::min()});
+    std::size_t buckets = 16;
+    while (buckets < 2 * points.size())
+      buckets *= 2;
+    shift_ = 64 - std::countr_zero(buckets);
+    offsets_.assign(buckets + 1, 0);
+    std::vector<std::uint64_t> key(points.size());
+    std::vector<std::uint32_t> bucket(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const auto c = cell_of(points[i]);
+      key[i] = pack(c[0], c[1], c[2]);
+      bucket[i] = bucket_of(key[i]);
+      ++offsets_[bucket[i] + 1];
+    }
+    for (std::size_t b = 0; b < buckets; ++b)
+      offsets_[b + 1] += offsets_[b];
+    slots_.resize(points.size());
+    std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      slots_[fill[bucket[i]]++] = {key[i], points[i], tags.empty() ? std::int64_t(i) : tags[i],
+                                   static_cast<std::int32_t>(i)};
+  }
+
+  double cell() const { return cell_; }
+  std::size_t num_buckets() const { return offsets_.size() - 1; }
+  /// The points hashed to bucket b (one or more cells).
+  std::span<const Slot> bucket(std::size_t b) const {
+    return {slots_.data() + offsets_[b], slots_.data() + offsets_[b + 1]};
+  }
+
+  /// Calls visit(slot) for every point in the cells within `rings` cells of p's cell.
+  template <class Visit> void for_each_near(const Vec3& p, int rings, Visit&& visit) const {
+    for_each_near_cell(cell_of(p), rings, visit);
+  }
+
+  /// The same around the cell with key `key`.
+  template <class Visit> void for_each_near_key(std::uint64_t key, int rings, Visit&& visit) const {
+    const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+    for_each_near_cell({std::int64_t(key & mask), std::int64_t(key >> 21 & mask),
+                        std::int64_t(key >> 42 & mask)},
+                       rings, visit);
+  }
+
+private:
+  static constexpr std::int64_t kMaxCell = (std::int64_t{1} << 21) - 1;
+
+  template <class Visit>
+  void for_each_near_cell(const std::array<std::int64_t, 3>& c, int rings, Visit& visit) const {
+    for (int dz = -rings; dz <= rings; ++dz)
+      for (int dy = -rings; dy <= rings; ++dy)
+        for (int dx = -rings; dx <= rings; ++dx) {
+          const std::int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+          if (x < 0 || y < 0 || z < 0 || x > kMaxCell || y > kMaxCell || z > kMaxCell)
+            continue;
+          const std::uint64_t key = pack(x, y, z);
+          const std::uint32_t b = bucket_of(key);
+          for (std::uint32_t s = offsets_[b]; s < offsets_[b + 1]; ++s)
+            if (slots_[s].key == key)
+              visit(slots_[s]);
+        }
+  }
+
+  std::array<std::int64_t, 3> cell_of(const Vec3& p) const {
+    std::array<std::int64_t, 3> c;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double f = std::floor((p[axis] - origin_[axis]) / cell_);
+      c[axis] = static_cast<std::int64_t>(std::clamp(f, 0.0, double(kMaxCell)));
+    }
+    return c;
+  }
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return std::uint64_t(x) | std::uint64_t(y) << 21 | std::uint64_t(z) << 42;
+  }
+  std::uint32_t bucket_of(std::uint64_t key) const {
+    return static_cast<std::uint32_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
+  }
+
+  Vec3 origin_;
+  double cell_ = 1.0;
+  int shift_ = 60;
+  std::vector<std::uint32_t> offsets_;
+  std::vector<Slot> slots_;
+};
+
+double max_over_ranks(const par::Comm& comm, double value) {
+  double result = value;
+  MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
+  return result;
+}
+
+} // namespace
+
+double repulsion_radius(double area, std::int64_t count, double radius_factor) {
+  TEXSIM_VERIFY(area > 0.0 && count > 0 && radius_factor > 0.0,
+                "repulsion_radius: area " << area << ", count " << count << " and radius_factor "
+                                          << radius_factor << " must be positive");
+  return radius_factor * std::sqrt(area / double(count));
+}
+
+Vec3 repulsion(const Vec3& p, std::int64_t p_id, const Vec3& q, std::int64_t q_id, double radius) {
+  const Vec3 away = p - q;
+  const double d = away.norm();
+  if (d >= radius)
+    return Vec3::Zero();
+  if (d > 1e-9 * radius)
+    return away * ((radius - d) / d);
+  // Coincident points would feel the same forces forever: split them along a direction drawn
+  // from the id pair, the larger id taking the positive sense.
+  const CounterRng rng(0, kCoincidentPointStream);
+  const auto low = static_cast<std::uint64_t>(std::min(p_id, q_id));
+  const auto high = static_cast<std::uint32_t>(std::max(p_id, q_id));
+  Vec3 direction(rng.normal(low, high, 0), rng.normal(low, high, 1), rng.normal(low, high, 2));
+  direction.normalize();
+  return (p_id > q_id ? radius : -radius) * direction;
+}
+
+Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings& settings) {
+  const double neighbours = std::numbers::pi * settings.radius_factor * settings.radius_factor;
+  Vec3 move = (settings.step / neighbours) * force;
+  const double limit = settings.step * radius;
+  const double length = move.norm();
+  if (length > limit)
+    move *= limit / length;
+  return move;
+}
+
+std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
+                                           std::span<const std::int64_t> ids,
+                                           std::span<const SurfacePoint> points,
+                                           std::span<const HaloPoint> halo, double radius,
+                                           const RelaxationSettings& settings, double* move_sum) {
+  TEXSIM_VERIFY(ids.size() == points.size(), "relaxation_sweep: " << ids.size() << " ids but "
+                                                                   << points.size() << " points");
+  TEXSIM_VERIFY(radius > 0.0, "relaxation_sweep: radius " << radius << " must be positive");
+  const std::size_t owned = points.size();
+  std::vector<Vec3> positions(owned + halo.size());
+  std::vector<std::int64_t> all_ids(owned + halo.size());
+  for (std::size_t i = 0; i < owned; ++i) {
+    positions[i] = points[i].position;
+    all_ids[i] = ids[i];
+  }
+  for (std::size_t h = 0; h < halo.size(); ++h) {
+    positions[owned + h] = halo[h].position;
+    all_ids[owned + h] = halo[h].id;
+  }
+  const PointGrid grid(positions, all_ids, radius);
+  const double radius2 = radius * radius;
+  std::vector<SurfacePoint> moved(owned);
+  double total_move = 0.0;
+  // Points of one grid cell share their candidate neighbours (the 27 cells around it): they are
+  // gathered and sorted by id once per cell, and each point of the cell sums the forces of those
+  // within the radius in that order, so the sum does not depend on the split into owned and halo
+  // points nor on the thread count.
+#pragma omp parallel reduction(+ : total_move)
+  {
+    struct Candidate {
+      std::int64_t id;
+      Vec3 position;
+    };
+    std::vector<Candidate> candidates;
+    std::vector<std::uint64_t> done_keys;
+#pragma omp for schedule(dynamic, 64)
+    for (std::size_t b = 0; b < grid.num_buckets(); ++b) {
+      const auto bucket = grid.bucket(b);
+      done_keys.clear();
+      for (std::size_t first = 0; first < bucket.size(); ++first) {
+        const std::uint64_t key = bucket[first].key;
+        if (std::size_t(bucket[first].index) >= owned ||
+            std::find(done_keys.begin(), done_keys.end(), key) != done_keys.end())
+          continue;
+        done_keys.push_back(key);
+        candidates.clear();
+        grid.for_each_near_key(key, 1, [&](const PointGrid::Slot& q) {
+          candidates.push_back({q.tag, q.position});
+        });
+        std::sort(candidates.begin(), candidates.end(),
+                  [](const Candidate& x, const Candidate& y) { return x.id < y.id; });
+        for (std::size_t k = first; k < bucket.size(); ++k) {
+          const std::size_t i = std::size_t(bucket[k].index);
+          if (bucket[k].key != key || i >= owned)
+            continue;
+          const Vec3& p = positions[i];
+          Vec3 force = Vec3::Zero();
+          for (const Candidate& q : candidates)
+            if (q.id != ids[i] && (q.position - p).squaredNorm() < radius2)
+              force += repulsion(p, ids[i], q.position, q.id, radius);
+          const Vec3 move = relaxation_move(force, radius, settings);
+          moved[i] = walker.move(points[i], move);
+          total_move += move.norm();
+        }
+      }
+    }
+  }
+  if (move_sum != nullptr)
+    *move_sum = total_move;
+  return moved;
+}
+
+DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,
+                                                const MeshTopology& topology, std::int64_t count,
+                                                std::uint64_t seed,
+                                                const RelaxationSettings& settings,
+                                                RelaxationReport* report) {
+  TEXSIM_VERIFY(count > 0, "relaxed_surface_points: count " << count << " must be positive");
+  TEXSIM_VERIFY(settings.iterations >= 0 && settings.radius_factor > 0.0 && settings.step > 0.0,
+                "relaxed_surface_points: iterations "
+                    << settings.iterations << ", radius_factor " << settings.radius_factor
+                    << ", step " << settings.step
+                    << ": iterations must not be negative, the others must be positive");
+  const double setup_start = MPI_Wtime();
+  const double radius = repulsion_radius(total_area(mesh), count, settings.radius_factor);
+  const SurfaceWalker walker(mesh, topology);
+
+  // Every rank places all points and partitions them the same way (both are pure functions of
+  // the ids and the geometry), then keeps its own.
+  const auto all = random_surface_points(mesh, 0, count, seed);
+  std::vector<std::array<double, 3>> initial(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    initial[i] = {all[i].position.x(), all[i].position.y(), all[i].position.z()};
+  const auto part = par::morton_partition(initial, comm.size);
+  // The sweeps visit the owned points along the Morton curve of their initial positions, so that
+  // consecutive points share grid cells in cache; the result is put back in id order at the end.
+  const auto keys = par::morton_keys(initial);
+  std::vector<std::int64_t> ids;
+  for (std::int64_t id = 0; id < count; ++id)
+    if (part[id] == comm.rank)
+      ids.push_back(id);
+  std::sort(ids.begin(), ids.end(), [&](std::int64_t a, std::int64_t b) {
+    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+  });
+  std::vector<SurfacePoint> points(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    points[i] = all[ids[i]];
+  const double setup_seconds = MPI_Wtime() - setup_start;
+
+  std::vector<double> seconds(settings.iterations), mean_move(settings.iterations);
+  std::int64_t max_halo = 0;
+  std::vector<Vec3> positions(points.size());
+  std::unique_ptr<Progress> progress;
+  if (comm.rank == 0)
+    progress = std::make_unique<Progress>("relaxing surface points", settings.iterations, "sweeps");
+  for (int sweep = 0; sweep < settings.iterations; ++sweep) {
+    const double start = MPI_Wtime();
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      positions[i] = points[i].position;
+    const auto halo =
+        exchange_point_halo(comm, ids, positions, Box3::around(positions).expanded(radius));
+    max_halo = std::max<std::int64_t>(max_halo, std::int64_t(halo.size()));
+    double move_sum = 0.0;
+    points = relaxation_sweep(walker, ids, points, halo, radius, settings, &move_sum);
+    seconds[sweep] = MPI_Wtime() - start;
+    mean_move[sweep] = move_sum;
+    if (progress)
+      progress->update(sweep + 1);
+  }
+  if (progress && settings.iterations > 0) {
+    double elapsed = 0.0;
+    for (double s : seconds)
+      elapsed += s;
+    if (elapsed > 5.0)
+      progress->finish();
+  }
+
+  if (report != nullptr) {
+    report->radius = radius;
+    report->seconds_setup = max_over_ranks(comm, setup_seconds);
+    report->seconds_per_iteration.assign(seconds.size(), 0.0);
+    report->mean_move_per_iteration.assign(seconds.size(), 0.0);
+    if (!seconds.empty()) {
+      MPI_Allreduce(seconds.data(), report->seconds_per_iteration.data(), int(seconds.size()),
+                    MPI_DOUBLE, MPI_MAX, comm.raw);
+      MPI_Allreduce(mean_move.data(), report->mean_move_per_iteration.data(),
+                    int(mean_move.size()), MPI_DOUBLE, MPI_SUM, comm.raw);
+    }
+    for (double& m : report->mean_move_per_iteration)
+      m /= double(count) * radius;
+    MPI_Allreduce(&max_halo, &report->max_halo_points, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+  }
+  std::vector<std::size_t> by_id(ids.size());
+  std::iota(by_id.begin(), by_id.end(), std::size_t{0});
+  std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return ids[a] < ids[b]; });
+  DistributedSurfacePoints result;
+  result.ids.reserve(ids.size());
+  result.points.reserve(ids.size());
+  for (const std::size_t i : by_id) {
+    result.ids.push_back(ids[i]);
+    result.points.push_back(points[i]);
+  }
+  return result;
+}
+
+NeighborSpacing nearest_neighbor_spacing(std::span<const Vec3> positions) {
+  const std::size_t n = positions.size();
+  TEXSIM_VERIFY(n >= 2, "nearest_neighbor_spacing: needs at least two points, got " << n);
+  // A cell of about the spacing of n points spread over the bounding box's surface; the search
+  // widens ring by ring until the nearest point found is provably the nearest.
+  const Box3 box = Box3::around(positions);
+  const Vec3 extent = box.hi - box.lo;
+  const double box_area =
+      2.0 * (extent.x() * extent.y() + extent.y() * extent.z() + extent.z() * extent.x());
+  double cell = std::sqrt(box_area / double(n));
+  if (!(cell > 0.0))
+    cell = std::max(extent.maxCoeff() / double(n), 1e-300);
+  const PointGrid grid(positions, {}, cell);
+  std::vector<double> nearest(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    double best2 = std::numeric_limits<double>::infinity();
+    for (int rings = 1;; ++rings) {
+      if (rings > 8) {
+        for (std::size_t j = 0; j < n; ++j)
+          if (j != i)
+            best2 = std::min(best2, (positions[j] - positions[i]).squaredNorm());
+        break;
+      }
+      best2 = std::numeric_limits<double>::infinity();
+      grid.for_each_near(positions[i], rings, [&](const PointGrid::Slot& q) {
+        if (std::size_t(q.index) != i)
+          best2 = std::min(best2, (q.position - positions[i]).squaredNorm());
+      });
+      // Every point within rings * cell of p lies in the visited cells.
+      const double reach = rings * grid.cell();
+      if (best2 <= reach * reach)
+        break;
+    }
+    nearest[i] = std::sqrt(best2);
+  }
+  NeighborSpacing spacing;
+  double sum = 0.0;
+  spacing.min = nearest[0];
+  spacing.max = nearest[0];
+  for (double d : nearest) {
+    sum += d;
+    spacing.min = std::min(spacing.min, d);
+    spacing.max = std::max(spacing.max, d);
+  }
+  spacing.mean = sum / double(n);
+  double variance = 0.0;
+  for (double d : nearest)
+    variance += (d - spacing.mean) * (d - spacing.mean);
+  variance /= double(n);
+  spacing.cv = spacing.mean > 0.0 ? std::sqrt(variance) / spacing.mean : 0.0;
+  return spacing;
+}
+
+} // namespace texsim::geom

@@ -1,0 +1,215 @@
+#include "geom/surface_cells.hpp"
+
+#include "core/error.hpp"
+#include "geom/mesh_measures.hpp"
+#include "geom/point_halo.hpp"
+#include "par/morton_partition.hpp"
+#include "par/record_exchange.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+namespace texsim::geom {
+namespace {
+
+struct AreaRecord {
+  std::int64_t cell;
+  std::int32_t triangle;
+  double area;
+};
+
+/// A piece of the border between `cell` and `other` inside `triangle`, as measured on the piece
+/// of cell `from` (each border is measured from both sides; both measurements reach both owners).
+struct BorderRecord {
+  std::int64_t cell;
+  std::int64_t other;
+  std::int32_t triangle;
+  std::int64_t from;
+  double length;
+};
+
+std::vector<std::int64_t> offsets_of_ranks(const par::Comm& comm, std::int64_t owned) {
+  std::vector<std::int64_t> counts(comm.size);
+  MPI_Allgather(&owned, 1, MPI_INT64_T, counts.data(), 1, MPI_INT64_T, comm.raw);
+  std::vector<std::int64_t> offsets(comm.size + 1, 0);
+  std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
+  return offsets;
+}
+
+std::int32_t owned_index(std::span<const std::int64_t> ids, std::int64_t id) {
+  const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+  TEXSIM_VERIFY(it != ids.end() && *it == id, "cell " << id << " is not owned here");
+  return std::int32_t(it - ids.begin());
+}
+
+std::vector<Vec3> positions_of(std::span<const SurfacePoint> points) {
+  std::vector<Vec3> positions;
+  positions.reserve(points.size());
+  for (const auto& p : points)
+    positions.push_back(p.position);
+  return positions;
+}
+
+} // namespace
+
+SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
+                           const MeshTopology& topology, std::uint64_t seed,
+                           const SurfaceCellsSettings& settings)
+    : global_count_(settings.count) {
+  TEXSIM_VERIFY(settings.count > 0, "SurfaceCells needs at least one cell");
+  surface_area_ = total_area(mesh);
+  spacing_ = std::sqrt(surface_area_ / double(settings.count));
+  auto relaxed = relaxed_surface_points(comm, mesh, topology, settings.count, seed,
+                                        settings.relaxation, &relaxation_);
+  ids_ = std::move(relaxed.ids);
+  points_ = std::move(relaxed.points);
+  rank_offsets_ = offsets_of_ranks(comm, owned_count());
+  owned_begin_ = rank_offsets_[comm.rank];
+  build_view(comm, mesh, settings.halo_spacings * spacing_);
+  reduce_pieces(comm);
+  build_stencil(comm);
+}
+
+void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {
+  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3;
+    centroids[t] = {c.x(), c.y(), c.z()};
+  }
+  const auto part = par::morton_partition(centroids, comm.size);
+  std::vector<Vec3> corners;
+  for (std::size_t t = 0; t < part.size(); ++t)
+    if (part[t] == comm.rank) {
+      triangles_.push_back(std::int32_t(t));
+      for (const auto v : mesh.triangles[t])
+        corners.push_back(mesh.positions[v]);
+    }
+  const Box3 needed = corners.empty() ? Box3::around({}) : Box3::around(corners).expanded(halo);
+  const auto owned_positions = positions_of(points_);
+  const auto halo_points = exchange_point_halo(comm, ids_, owned_positions, needed);
+
+  for (std::int32_t i = 0; i < owned_count(); ++i) {
+    view_ids_.push_back(ids_[i]);
+    view_positions_.push_back(owned_positions[i]);
+    view_blocks_.push_back(std::int32_t(owned_begin_ + i));
+    view_owners_.push_back(comm.rank);
+  }
+  for (const auto& h : halo_points) {
+    view_ids_.push_back(h.id);
+    view_positions_.push_back(h.position);
+    view_blocks_.push_back(std::int32_t(rank_offsets_[h.owner] + h.owner_index));
+    view_owners_.push_back(h.owner);
+  }
+  pieces_ = restricted_voronoi_pieces(mesh, triangles_, view_positions_, view_ids_, true);
+}
+
+void SurfaceCells::reduce_pieces(const par::Comm& comm) {
+  std::vector<std::vector<AreaRecord>> areas_out(comm.size);
+  std::vector<std::vector<BorderRecord>> borders_out(comm.size);
+  for (const auto& piece : pieces_) {
+    const std::int64_t cell = view_ids_[piece.seed];
+    areas_out[view_owners_[piece.seed]].push_back({cell, piece.triangle, piece.area});
+    for (const auto& [other_seed, length] : piece.borders) {
+      const std::int64_t other = view_ids_[other_seed];
+      borders_out[view_owners_[piece.seed]].push_back(
+          {cell, other, piece.triangle, cell, length});
+      borders_out[view_owners_[other_seed]].push_back(
+          {other, cell, piece.triangle, cell, length});
+    }
+  }
+  auto areas_in = par::exchange_records(comm, areas_out);
+  auto borders_in = par::exchange_records(comm, borders_out);
+
+  // Sums in a fixed order (by triangle, then by the measuring cell) give the same bits on every
+  // partition, and the same bits for (i, j) as for (j, i).
+  std::sort(areas_in.begin(), areas_in.end(), [](const AreaRecord& a, const AreaRecord& b) {
+    return std::tie(a.cell, a.triangle) < std::tie(b.cell, b.triangle);
+  });
+  areas_.assign(ids_.size(), 0.0);
+  for (const auto& r : areas_in)
+    areas_[owned_index(ids_, r.cell)] += r.area;
+
+  std::sort(borders_in.begin(), borders_in.end(), [](const BorderRecord& a, const BorderRecord& b) {
+    return std::tie(a.cell, a.other, a.triangle, a.from) <
+           std::tie(b.cell, b.other, b.triangle, b.from);
+  });
+  borders_.assign(ids_.size(), {});
+  for (const auto& r : borders_in) {
+    auto& row = borders_[owned_index(ids_, r.cell)];
+    if (row.empty() || row.back().first != r.other)
+      row.emplace_back(r.other, 0.0);
+    row.back().second += 0.5 * r.length;
+  }
+}
+
+void SurfaceCells::build_stencil(const par::Comm& comm) {
+  // Neighbours lie within a few spacings: the halo around the owned cells supplies the ghosts'
+  // positions and block indices.
+  const auto owned_positions = positions_of(points_);
+  const Box3 around_owned = owned_positions.empty()
+                                ? Box3::around({})
+                                : Box3::around(owned_positions).expanded(6.0 * spacing_);
+  const auto nearby = exchange_point_halo(comm, ids_, owned_positions, around_owned);
+  const auto find_nearby = [&](std::int64_t id) -> const HaloPoint& {
+    const auto it = std::lower_bound(nearby.begin(), nearby.end(), id,
+                                     [](const HaloPoint& h, std::int64_t v) { return h.id < v; });
+    TEXSIM_VERIFY(it != nearby.end() && it->id == id,
+                  "cell " << id << " borders an owned cell but is not within the halo");
+    return *it;
+  };
+
+  std::vector<std::int64_t> ghost_ids;
+  for (const auto& row : borders_)
+    for (const auto& [other, length] : row)
+      if (!std::binary_search(ids_.begin(), ids_.end(), other))
+        ghost_ids.push_back(other);
+  std::sort(ghost_ids.begin(), ghost_ids.end());
+  ghost_ids.erase(std::unique(ghost_ids.begin(), ghost_ids.end()), ghost_ids.end());
+  ghost_ids_ = ghost_ids;
+  for (const std::int64_t id : ghost_ids_) {
+    const HaloPoint& h = find_nearby(id);
+    ghost_positions_.push_back(h.position);
+    ghost_blocks_.push_back(std::int32_t(rank_offsets_[h.owner] + h.owner_index));
+  }
+
+  neighbors_.offsets.assign(1, 0);
+  std::int64_t cut = 0;
+  for (std::int32_t i = 0; i < owned_count(); ++i) {
+    for (const auto& [other, length] : borders_[i]) {
+      if (!(length > 0.0))
+        continue;
+      std::int32_t local;
+      Vec3 position;
+      const auto owned = std::lower_bound(ids_.begin(), ids_.end(), other);
+      if (owned != ids_.end() && *owned == other) {
+        local = std::int32_t(owned - ids_.begin());
+        position = points_[local].position;
+      } else {
+        const auto slot = std::lower_bound(ghost_ids_.begin(), ghost_ids_.end(), other);
+        local = owned_count() + std::int32_t(slot - ghost_ids_.begin());
+        position = ghost_positions_[slot - ghost_ids_.begin()];
+        ++cut;
+      }
+      neighbors_.indices.push_back(local);
+      couplings_.push_back(length / (points_[i].position - position).norm());
+    }
+    neighbors_.offsets.push_back(std::int64_t(neighbors_.indices.size()));
+  }
+  borders_.clear();
+
+  std::int64_t cut_sum = 0, owned_max = 0, ghosts_max = 0;
+  const std::int64_t owned = owned_count(), ghosts = std::int64_t(ghost_ids_.size());
+  MPI_Allreduce(&cut, &cut_sum, 1, MPI_INT64_T, MPI_SUM, comm.raw);
+  MPI_Allreduce(&owned, &owned_max, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+  MPI_Allreduce(&ghosts, &ghosts_max, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+  quality_.edge_cut = cut_sum / 2;
+  quality_.imbalance = double(owned_max) * comm.size / double(global_count_);
+  quality_.ghosts_max = ghosts_max;
+}
+
+} // namespace texsim::geom

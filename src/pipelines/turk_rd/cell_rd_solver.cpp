@@ -1,0 +1,162 @@
+#include "pipelines/turk_rd/cell_rd_solver.hpp"
+
+#include "core/error.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+
+namespace texsim::pipelines::turk_rd {
+namespace {
+/// Cells per reaction block: the block's species values and coefficients stay in L1/L2 cache.
+constexpr std::int32_t kBlock = 256;
+} // namespace
+
+CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
+                           const fem_rd::ReactionModel& model,
+                           std::span<const double> diffusion_scale, double dt)
+    : comm_(comm), cells_(cells), model_(model), names_(model.species()), dt_(dt),
+      frozen_(std::size_t(cells.owned_count()), 0) {
+  const std::int32_t n = cells.owned_count();
+  const int species = int(names_.size());
+  TEXSIM_VERIFY(diffusion_scale.size() == std::size_t(n), "diffusion scale has "
+                                                              << diffusion_scale.size()
+                                                              << " values for " << n << " cells");
+  current_ = std::make_unique<par::GhostedVector>(comm, n, cells.ghost_blocks(), species);
+  next_ = std::make_unique<par::GhostedVector>(comm, n, cells.ghost_blocks(), species);
+
+  // Diffusion scale of the neighbours (owned or ghost) through the same ghost layer.
+  par::GhostedVector scale(comm, n, cells.ghost_blocks(), 1);
+  scale.set_owned(diffusion_scale);
+  const double mean_area = cells.surface_area() / double(cells.global_count());
+  const auto& stencil = cells.neighbors();
+  weights_.resize(stencil.indices.size());
+  for (std::int32_t i = 0; i < n; ++i)
+    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
+      const double f = 0.5 * (scale.local()[i] + scale.local()[stencil.indices[e]]);
+      weights_[e] = mean_area / cells.areas()[i] * f * cells.couplings()[e];
+    }
+
+  ids_.assign(cells.ids().begin(), cells.ids().end());
+  for (const auto& p : cells.points())
+    xyz_.insert(xyz_.end(), p.position.data(), p.position.data() + 3);
+
+  // The rates and bounds do not depend on the state: read them from one evaluation.
+  std::vector<fem_rd::SpeciesCoefficients> probe;
+  const std::vector<std::int64_t> probe_id{0};
+  const std::vector<double> probe_xyz{0, 0, 0};
+  const auto probe_initial = model.initial_state({probe_id, probe_xyz});
+  std::vector<std::span<const double>> probe_state;
+  for (const auto& values : probe_initial)
+    probe_state.emplace_back(values);
+  model.coefficients(0.0, probe_state, {probe_id, probe_xyz}, probe);
+  for (int s = 0; s < species; ++s) {
+    rates_.push_back(probe[s].diffusion);
+    lower_bounds_.push_back(model.lower_bound(std::size_t(s)));
+  }
+
+  const auto initial = model.initial_state({ids_, xyz_});
+  TEXSIM_VERIFY(initial.size() == names_.size(), "model gave " << initial.size()
+                                                               << " initial fields for "
+                                                               << names_.size() << " species");
+  auto owned = current_->owned();
+  for (std::int32_t i = 0; i < n; ++i)
+    for (int s = 0; s < species; ++s)
+      owned[std::size_t(i) * species + s] = initial[s][i];
+  current_->update_ghosts();
+}
+
+std::vector<double> CellRdSolver::owned_values(std::size_t s) const {
+  const std::size_t species = names_.size();
+  const auto local = current_->local();
+  std::vector<double> values(std::size_t(cells_.owned_count()));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = local[i * species + s];
+  return values;
+}
+
+void CellRdSolver::set_owned_values(std::size_t s, std::span<const double> owned_values) {
+  const std::size_t species = names_.size();
+  TEXSIM_VERIFY(owned_values.size() == std::size_t(cells_.owned_count()),
+                "set_owned_values: " << owned_values.size() << " values for "
+                                     << cells_.owned_count() << " cells");
+  auto owned = current_->owned();
+  for (std::size_t i = 0; i < owned_values.size(); ++i)
+    owned[i * species + s] = owned_values[i];
+  current_->update_ghosts();
+}
+
+void CellRdSolver::set_frozen(std::vector<char> frozen) {
+  TEXSIM_VERIFY(frozen.size() == frozen_.size(),
+                "set_frozen: " << frozen.size() << " flags for " << frozen_.size() << " cells");
+  frozen_ = std::move(frozen);
+}
+
+std::size_t CellRdSolver::frozen_count() const {
+  return std::size_t(std::count(frozen_.begin(), frozen_.end(), 1));
+}
+
+void CellRdSolver::step(double t) {
+  const std::int32_t n = cells_.owned_count();
+  const std::size_t species = names_.size();
+  const auto current = current_->local();
+  const auto next = next_->owned();
+  const auto& stencil = cells_.neighbors();
+  const std::int32_t blocks = (n + kBlock - 1) / kBlock;
+
+#pragma omp parallel if (model_.thread_safe())
+  {
+    std::vector<std::vector<double>> block_state(species, std::vector<double>(kBlock));
+    std::vector<std::span<const double>> block_spans(species);
+    std::vector<fem_rd::SpeciesCoefficients> coefficients;
+    std::vector<double> laplacian(species);
+#pragma omp for schedule(static)
+    for (std::int32_t b = 0; b < blocks; ++b) {
+      const std::int32_t begin = b * kBlock;
+      const std::int32_t count = std::min(kBlock, n - begin);
+      for (std::size_t s = 0; s < species; ++s) {
+        for (std::int32_t k = 0; k < count; ++k)
+          block_state[s][k] = current[std::size_t(begin + k) * species + s];
+        block_spans[s] = std::span<const double>(block_state[s]).first(std::size_t(count));
+      }
+      model_.coefficients(t, block_spans,
+                          {std::span(ids_).subspan(begin, count),
+                           std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count))},
+                          coefficients);
+      for (std::int32_t k = 0; k < count; ++k) {
+        const std::int32_t i = begin + k;
+        const double* own = &current[std::size_t(i) * species];
+        double* out = &next[std::size_t(i) * species];
+        if (frozen_[i]) {
+          std::copy(own, own + species, out);
+          continue;
+        }
+        std::fill(laplacian.begin(), laplacian.end(), 0.0);
+        for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
+          const double* other = &current[std::size_t(stencil.indices[e]) * species];
+          for (std::size_t s = 0; s < species; ++s)
+            laplacian[s] += weights_[e] * (other[s] - own[s]);
+        }
+        for (std::size_t s = 0; s < species; ++s) {
+          const double rate = rates_[s] * laplacian[s] + coefficients[s].linear[k] * own[s] +
+                              coefficients[s].source[k];
+          out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
+        }
+      }
+    }
+  }
+  std::swap(current_, next_);
+  current_->update_ghosts();
+}
+
+double CellRdSolver::integral(std::size_t s) const {
+  const auto values = owned_values(s);
+  double local = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    local += cells_.areas()[i] * values[i];
+  double total = 0.0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_.raw);
+  return total;
+}
+
+} // namespace texsim::pipelines::turk_rd

@@ -1,0 +1,26 @@
+#pragma once
+/// What a pattern on the cells looks like: its spots or stripes are the connected regions of cells
+/// above the mean value, and a region's elongation is its isoperimetric ratio
+/// perimeter^2 / (4 pi area) (1 for a disc; about length / (pi width) for a long stripe), measured
+/// with the cells' areas and shared border lengths, so it works on any surface (a stripe that
+/// closes around a torus is as elongated as an open one).
+#include "geom/surface_cells.hpp"
+#include "par/comm.hpp"
+
+#include <span>
+
+namespace texsim::pipelines::turk_rd {
+
+struct PatternShapes {
+  int regions = 0;               ///< connected regions above the mean
+  double mean_cells = 0;         ///< cells per region
+  double median_elongation = 0;  ///< over regions of at least 4 cells
+  double max_elongation = 0;
+};
+
+/// Gathers the values at the owned cells to rank 0 and measures there; every rank gets the result.
+/// Collective.
+PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& cells,
+                              std::span<const double> owned_values);
+
+} // namespace texsim::pipelines::turk_rd

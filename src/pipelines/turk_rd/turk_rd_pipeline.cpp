@@ -1,0 +1,317 @@
+#include "pipelines/turk_rd/turk_rd_pipeline.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/progress.hpp"
+#include "geom/mesh_topology.hpp"
+#include "par/collective.hpp"
+#include "pipelines/turk_rd/cascade_checkpoint.hpp"
+#include "pipelines/turk_rd/cell_expression.hpp"
+#include "pipelines/turk_rd/cell_rd_solver.hpp"
+#include "pipelines/turk_rd/initiators.hpp"
+#include "pipelines/turk_rd/pattern_frames.hpp"
+#include "pipelines/turk_rd/pattern_shapes.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace texsim::pipelines::turk_rd {
+namespace {
+
+using FieldMap = std::map<std::string, std::vector<double>>;
+
+std::vector<double> owned_xyz(const geom::SurfaceCells& cells) {
+  std::vector<double> xyz;
+  for (const auto& p : cells.points())
+    xyz.insert(xyz.end(), p.position.data(), p.position.data() + 3);
+  return xyz;
+}
+
+std::vector<std::span<const double>> columns(const FieldMap& fields,
+                                             const std::vector<std::string>& names) {
+  std::vector<std::span<const double>> result;
+  for (const auto& name : names)
+    result.emplace_back(fields.at(name));
+  return result;
+}
+
+/// f(x, y, z) at the owned cells; must be positive everywhere. Collective.
+std::vector<double> diffusion_scale(const par::Comm& comm, const TurkRdSettings& settings,
+                                    const geom::SurfaceCells& cells) {
+  std::vector<double> scale;
+  par::run_collectively(comm, [&] {
+    const auto xyz = owned_xyz(cells);
+    scale = CellExpression(settings.diffusion_scale, {}, "turk_rd.diffusion_scale")
+                .evaluate(xyz, {});
+    for (std::size_t i = 0; i < scale.size(); ++i)
+      if (!(scale[i] > 0.0) || !std::isfinite(scale[i]))
+        throw InputError(log::cat("turk_rd.diffusion_scale: expected a positive value at every "
+                                  "cell, got ",
+                                  scale[i], " at (", xyz[3 * i], ", ", xyz[3 * i + 1], ", ",
+                                  xyz[3 * i + 2], ")"));
+  });
+  return scale;
+}
+
+struct MinMax {
+  double min, max;
+};
+
+MinMax global_min_max(const par::Comm& comm, std::span<const double> values) {
+  double local[2] = {std::numeric_limits<double>::infinity(),
+                     std::numeric_limits<double>::infinity()};
+  for (const double v : values) {
+    local[0] = std::min(local[0], v);
+    local[1] = std::min(local[1], -v);
+  }
+  double global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, comm.raw);
+  return {global[0], -global[1]};
+}
+
+/// One stage of the cascade set up on the cells: its solver, frozen cells and start values.
+class StageRun {
+public:
+  StageRun(const par::Comm& comm, const geom::SurfaceCells& cells, const StageSettings& stage,
+           const std::vector<std::string>& earlier_names, const FieldMap& fields,
+           std::span<const double> scale, bool fresh)
+      : stage_(stage), earlier_names_(earlier_names),
+        solver_(comm, cells, *stage.model, scale, stage.dt), xyz_(owned_xyz(cells)) {
+    // Start values: a species carried over from the stage before keeps its values (the fields
+    // hold them under their plain names); on a restart all come from the checkpoint.
+    for (std::size_t s = 0; s < stage.species.size(); ++s) {
+      const auto found = fields.find(stage.species[s]);
+      if (found != fields.end())
+        solver_.set_owned_values(s, found->second);
+      else
+        TEXSIM_VERIFY(fresh, "restart without values of species " << stage.species[s]);
+    }
+    std::vector<char> frozen(std::size_t(cells.owned_count()), 0);
+    if (!stage.active.empty()) {
+      const auto active = CellExpression(stage.active, earlier_names, stage.key_path + ".active")
+                              .evaluate(xyz_, columns(fields, earlier_names));
+      for (std::size_t i = 0; i < frozen.size(); ++i)
+        frozen[i] = active[i] == 0.0;
+    }
+    for (const auto& initiator : stage.initiators) {
+      const auto selected = select_initiator_cells(comm, cells, initiator);
+      for (std::size_t i = 0; i < frozen.size(); ++i)
+        frozen[i] |= selected[i];
+      if (!fresh)
+        continue; // the checkpoint holds the initiators' values already
+      for (const auto& [species, value] : initiator.values) {
+        auto values = solver_.owned_values(species);
+        for (std::size_t i = 0; i < values.size(); ++i)
+          if (selected[i])
+            values[i] = value;
+        solver_.set_owned_values(species, values);
+      }
+    }
+    solver_.set_frozen(std::move(frozen));
+  }
+
+  CellRdSolver& solver() { return solver_; }
+
+  /// The running stage's species under their plain names.
+  FieldMap species_fields() const {
+    FieldMap fields;
+    for (std::size_t s = 0; s < solver_.species_count(); ++s)
+      fields[stage_.species[s]] = solver_.owned_values(s);
+    return fields;
+  }
+
+  /// The stage's `show` value at the owned cells.
+  std::vector<double> shown(const FieldMap& earlier) const {
+    FieldMap all = species_fields();
+    all.insert(earlier.begin(), earlier.end());
+    auto names = stage_.species;
+    names.insert(names.end(), earlier_names_.begin(), earlier_names_.end());
+    return CellExpression(stage_.show, names, stage_.key_path + ".show")
+        .evaluate(xyz_, columns(all, names));
+  }
+
+private:
+  const StageSettings& stage_;
+  std::vector<std::string> earlier_names_;
+  CellRdSolver solver_;
+  std::vector<double> xyz_;
+};
+
+} // namespace
+
+void TurkRdPipeline::configure(const ConfigSection& section, const RunSettings& run) {
+  settings_ = read_turk_rd_settings(section, run.seed);
+}
+
+void TurkRdPipeline::run(RunContext& ctx) {
+  const auto& comm = ctx.comm;
+  const auto& run = ctx.settings;
+  auto& report = ctx.report;
+
+  geom::TriangleMesh surface;
+  {
+    auto stage = ctx.timers.scope("mesh");
+    par::run_collectively(comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed); });
+  }
+  const geom::MeshTopology topology(surface);
+  std::unique_ptr<geom::SurfaceCells> cells_owner;
+  {
+    auto stage = ctx.timers.scope("retiling");
+    cells_owner = std::make_unique<geom::SurfaceCells>(comm, surface, topology, run.seed,
+                                                      settings_.cells);
+  }
+  const auto& cells = *cells_owner;
+  {
+    double local_area = 0, total_cell_area = 0;
+    for (const double a : cells.areas())
+      local_area += a;
+    MPI_Allreduce(&local_area, &total_cell_area, 1, MPI_DOUBLE, MPI_SUM, comm.raw);
+    const auto& q = cells.quality();
+    const auto& relaxation = cells.relaxation();
+    report.metric("cells", {{"count", cells.global_count()},
+                            {"surface_area", cells.surface_area()},
+                            {"cell_area_sum_relative_error",
+                             (total_cell_area - cells.surface_area()) / cells.surface_area()},
+                            {"spacing", cells.spacing()},
+                            {"relaxation_radius", relaxation.radius},
+                            {"relaxation_iterations", settings_.cells.relaxation.iterations}});
+    report.metric("partition", {{"method", "morton"},
+                                {"edge_cut", q.edge_cut},
+                                {"imbalance", q.imbalance},
+                                {"ghosts_max", q.ghosts_max}});
+    log::info(log::cat("retiling: ", cells.global_count(), " cells on ", surface.num_triangles(),
+                       " triangles, cell areas sum to the surface area within ",
+                       std::abs(total_cell_area - cells.surface_area()) / cells.surface_area(),
+                       "; partition edge cut ", q.edge_cut, ", imbalance ", q.imbalance));
+  }
+
+  const auto scale = diffusion_scale(comm, settings_, cells);
+  const auto& stages = settings_.stages;
+  io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
+                            run.checkpoint_keep);
+  CascadeState state;
+  std::unique_ptr<PatternFrames> frames;
+  std::vector<std::int64_t> stage_begin{0};
+  std::vector<double> stage_time{0.0};
+  for (const auto& stage : stages) {
+    stage_begin.push_back(stage_begin.back() + stage.steps);
+    stage_time.push_back(stage_time.back() + double(stage.steps) * stage.dt);
+  }
+  {
+    auto stage = ctx.timers.scope("setup");
+    std::optional<double> restart_time;
+    if (run.restart) {
+      const auto found = store.resolve(*run.restart);
+      for (const auto& skipped : found.skipped)
+        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
+      const auto stage_index = std::size_t(found.reader.attribute_int64("stage"));
+      if (stage_index >= stages.size())
+        throw InputError(found.reader.path().string() + ": stage " +
+                         std::to_string(stage_index) + " of a cascade with more stages");
+      auto fields = earlier_stage_names(stages, stage_index);
+      fields.insert(fields.end(), stages[stage_index].species.begin(),
+                    stages[stage_index].species.end());
+      state = load_cascade(found.reader, cells, fields);
+      restart_time = stage_time[state.stage] + double(state.stage_step) * stages[state.stage].dt;
+      log::info(log::cat("restarted from ", found.reader.path().string(), " in stage '",
+                         stages[state.stage].name, "' after ", state.stage_step, " steps"));
+    }
+    frames = std::make_unique<PatternFrames>(comm, surface, cells, settings_.render,
+                                             run.output_dir, restart_time);
+  }
+
+  FieldMap earlier; // "<stage>_<species>" of finished stages
+  for (const auto& [name, values] : state.fields)
+    if (name.find('_') != std::string::npos &&
+        std::any_of(stages.begin(), stages.begin() + std::ptrdiff_t(state.stage),
+                    [&](const StageSettings& s) { return name.rfind(s.name + "_", 0) == 0; }))
+      earlier[name] = values;
+  FieldMap carried = state.fields; // start values of the next stage, by plain species name
+  nlohmann::json stage_metrics = nlohmann::json::object();
+  Progress progress("turk_rd", settings_.total_steps(), "steps");
+
+  for (std::size_t k = state.stage; k < stages.size(); ++k) {
+    const auto& stage = stages[k];
+    const bool fresh = !(run.restart && k == state.stage);
+    const std::int64_t first_step = fresh ? 0 : state.stage_step;
+    StageRun stage_run(comm, cells, stage, earlier_stage_names(stages, k), [&] {
+      FieldMap all = carried;
+      all.insert(earlier.begin(), earlier.end());
+      return all;
+    }(), scale, fresh);
+    auto& solver = stage_run.solver();
+    std::vector<double> initial_integral;
+    for (std::size_t s = 0; s < solver.species_count(); ++s)
+      initial_integral.push_back(solver.integral(s));
+    log::info(log::cat("stage '", stage.name, "': ", stage.steps - first_step, " steps of dt ",
+                       stage.dt, ", species ", solver.species_count(), ", frozen cells ",
+                       solver.frozen_count(), " on rank 0"));
+
+    const auto write_frame = [&](std::int64_t stage_step) {
+      auto timer = ctx.timers.scope("output");
+      const auto shown = stage_run.shown(earlier);
+      std::vector<std::vector<double>> species;
+      for (std::size_t s = 0; s < solver.species_count(); ++s)
+        species.push_back(solver.owned_values(s));
+      frames->write(stage_begin[k] + stage_step,
+                    {stage_time[k] + double(stage_step) * stage.dt, shown, stage.species,
+                     species});
+    };
+    if (k == 0 && fresh)
+      write_frame(0);
+    for (std::int64_t step = first_step; step < stage.steps; ++step) {
+      {
+        auto timer = ctx.timers.scope("rd_step");
+        solver.step(stage_time[k] + double(step) * stage.dt);
+      }
+      const std::int64_t done = step + 1;
+      const std::int64_t global = stage_begin[k] + done;
+      if (global % run.output_every == 0 || done == stage.steps)
+        write_frame(done);
+      if (run.checkpoint_every > 0 && global % run.checkpoint_every == 0) {
+        auto timer = ctx.timers.scope("checkpoint");
+        CascadeState now{k, done, stage_run.species_fields()};
+        now.fields.insert(earlier.begin(), earlier.end());
+        save_cascade(store, global, cells, now);
+      }
+      progress.update(global);
+    }
+
+    auto timer = ctx.timers.scope("finish");
+    nlohmann::json species_metrics = nlohmann::json::object();
+    carried = stage_run.species_fields();
+    for (std::size_t s = 0; s < solver.species_count(); ++s) {
+      const auto& values = carried.at(stage.species[s]);
+      const auto range = global_min_max(comm, values);
+      const auto shapes = measure_pattern(comm, cells, values);
+      species_metrics[stage.species[s]] = {{"initial_integral", initial_integral[s]},
+                                           {"final_integral", solver.integral(s)},
+                                           {"min", range.min},
+                                           {"max", range.max},
+                                           {"regions_above_mean", shapes.regions},
+                                           {"cells_per_region", shapes.mean_cells},
+                                           {"median_elongation", shapes.median_elongation},
+                                           {"max_elongation", shapes.max_elongation}};
+    }
+    const auto shown_shapes = measure_pattern(comm, cells, stage_run.shown(earlier));
+    stage_metrics[stage.name] = {{"steps", stage.steps},
+                                 {"frozen_cells_rank0", solver.frozen_count()},
+                                 {"species", species_metrics},
+                                 {"shown",
+                                  {{"expression", stage.show},
+                                   {"regions_above_mean", shown_shapes.regions},
+                                   {"median_elongation", shown_shapes.median_elongation}}}};
+    for (const auto& [name, values] : carried)
+      earlier[stage.name + "_" + name] = values;
+  }
+  progress.finish();
+  report.metric("stages", stage_metrics);
+  report.metric("steps", settings_.total_steps());
+  for (const auto& path : frames->series())
+    report.output(path.string());
+}
+
+} // namespace texsim::pipelines::turk_rd
