@@ -26,19 +26,18 @@ namespace {
 constexpr std::uint32_t kCoincidentPointStream = 0x5402;
 
 /// Uniform hash grid over a point set: cells of a given size hashed into about two buckets per
-/// point. Each bucket stores its points contiguously (cell key, position, tag, original index)
-/// in increasing index order, so a cell's points are read from one run of memory, hash
-/// collisions are filtered by the key and no cell is visited twice.
+/// point. Each bucket stores its points contiguously (cell key, position, index) in increasing
+/// index order, so a cell's points are read from one run of memory, hash collisions are filtered
+/// by the key and no cell is visited twice.
 class PointGrid {
 public:
   struct Slot {
     std::uint64_t key;
     Vec3 position;
-    std::int64_t tag;   ///< caller's label of the point (a global id)
-    std::int32_t index; ///< index in the span the grid was built from
+    std::uint32_t index; ///< index in the span the grid was built from
   };
 
-  PointGrid(std::span<const Vec3> points, std::span<const std::int64_t> tags, double cell) {
+  PointGrid(std::span<const Vec3> points, double cell) {
     const Box3 box = Box3::around(points);
     origin_ = box.empty() ? Vec3::Zero() : box.lo;
     const double extent = box.empty() ? 0.0 : (box.hi - box.lo).maxCoeff();
@@ -62,8 +61,7 @@ public:
     slots_.resize(points.size());
     std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
     for (std::size_t i = 0; i < points.size(); ++i)
-      slots_[fill[bucket[i]]++] = {key[i], points[i], tags.empty() ? std::int64_t(i) : tags[i],
-                                   static_cast<std::int32_t>(i)};
+      slots_[fill[bucket[i]]++] = {key[i], points[i], static_cast<std::uint32_t>(i)};
   }
 
   double cell() const { return cell_; }
@@ -127,6 +125,17 @@ private:
   std::vector<Slot> slots_;
 };
 
+Vec3 coincident_repulsion(std::int64_t p_id, std::int64_t q_id, double radius) {
+  // Coincident points would feel the same forces forever: split them along a direction drawn
+  // from the id pair, the larger id taking the positive sense.
+  const CounterRng rng(0, kCoincidentPointStream);
+  const auto low = static_cast<std::uint64_t>(std::min(p_id, q_id));
+  const auto high = static_cast<std::uint32_t>(std::max(p_id, q_id));
+  Vec3 direction(rng.normal(low, high, 0), rng.normal(low, high, 1), rng.normal(low, high, 2));
+  direction.normalize();
+  return (p_id > q_id ? radius : -radius) * direction;
+}
+
 double max_over_ranks(const par::Comm& comm, double value) {
   double result = value;
   MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
@@ -149,15 +158,9 @@ Vec3 repulsion(const Vec3& p, std::int64_t p_id, const Vec3& q, std::int64_t q_i
     return Vec3::Zero();
   if (d > 1e-9 * radius)
     return away * ((radius - d) / d);
-  // Coincident points would feel the same forces forever: split them along a direction drawn
-  // from the id pair, the larger id taking the positive sense.
-  const CounterRng rng(0, kCoincidentPointStream);
-  const auto low = static_cast<std::uint64_t>(std::min(p_id, q_id));
-  const auto high = static_cast<std::uint32_t>(std::max(p_id, q_id));
-  Vec3 direction(rng.normal(low, high, 0), rng.normal(low, high, 1), rng.normal(low, high, 2));
-  direction.normalize();
-  return (p_id > q_id ? radius : -radius) * direction;
+  return coincident_repulsion(p_id, q_id, radius);
 }
+
 
 Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings& settings) {
   const double neighbours = std::numbers::pi * settings.radius_factor * settings.radius_factor;
@@ -177,32 +180,45 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
   TEXSIM_VERIFY(ids.size() == points.size(), "relaxation_sweep: " << ids.size() << " ids but "
                                                                    << points.size() << " points");
   TEXSIM_VERIFY(radius > 0.0, "relaxation_sweep: radius " << radius << " must be positive");
+  TEXSIM_VERIFY(std::is_sorted(ids.begin(), ids.end()), "relaxation_sweep: ids must increase");
+  TEXSIM_VERIFY(points.size() + halo.size() < (std::size_t{1} << 32),
+                "relaxation_sweep: too many points for one rank");
+  // All points of this sweep, owned and halo, merged in increasing id order: a point's index is
+  // its rank by id, so neighbours are sorted by id by sorting indices.
   const std::size_t owned = points.size();
-  std::vector<Vec3> positions(owned + halo.size());
-  std::vector<std::int64_t> all_ids(owned + halo.size());
-  for (std::size_t i = 0; i < owned; ++i) {
-    positions[i] = points[i].position;
-    all_ids[i] = ids[i];
+  const std::size_t total = owned + halo.size();
+  std::vector<Vec3> positions(total);
+  std::vector<std::int64_t> merged_ids(total);
+  std::vector<std::int64_t> owned_of(total, -1); // owned index of merged point, -1 for halo
+  {
+    std::size_t i = 0, h = 0;
+    for (std::size_t m = 0; m < total; ++m) {
+      if (h == halo.size() || (i < owned && ids[i] < halo[h].id)) {
+        positions[m] = points[i].position;
+        merged_ids[m] = ids[i];
+        owned_of[m] = std::int64_t(i++);
+      } else {
+        positions[m] = halo[h].position;
+        merged_ids[m] = halo[h++].id;
+      }
+    }
   }
-  for (std::size_t h = 0; h < halo.size(); ++h) {
-    positions[owned + h] = halo[h].position;
-    all_ids[owned + h] = halo[h].id;
-  }
-  const PointGrid grid(positions, all_ids, radius);
+  const PointGrid grid(positions, radius);
   const double radius2 = radius * radius;
   std::vector<SurfacePoint> moved(owned);
   double total_move = 0.0;
-  // Points of one grid cell share their candidate neighbours (the 27 cells around it): they are
-  // gathered and sorted by id once per cell, and each point of the cell sums the forces of those
-  // within the radius in that order, so the sum does not depend on the split into owned and halo
-  // points nor on the thread count.
+  // Points of one grid cell share their candidate neighbours (the 27 cells around it), gathered
+  // once per cell. Each point sums the forces of the candidates within the radius in increasing
+  // id order, so the sum depends neither on the split into owned and halo points nor on the
+  // thread count.
 #pragma omp parallel reduction(+ : total_move)
   {
     struct Candidate {
-      std::int64_t id;
       Vec3 position;
+      std::uint32_t index;
     };
     std::vector<Candidate> candidates;
+    std::vector<std::uint64_t> near; // merged index << 32 | candidate number
     std::vector<std::uint64_t> done_keys;
 #pragma omp for schedule(dynamic, 64)
     for (std::size_t b = 0; b < grid.num_buckets(); ++b) {
@@ -210,26 +226,45 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
       done_keys.clear();
       for (std::size_t first = 0; first < bucket.size(); ++first) {
         const std::uint64_t key = bucket[first].key;
-        if (std::size_t(bucket[first].index) >= owned ||
+        if (owned_of[bucket[first].index] < 0 ||
             std::find(done_keys.begin(), done_keys.end(), key) != done_keys.end())
           continue;
         done_keys.push_back(key);
         candidates.clear();
         grid.for_each_near_key(key, 1, [&](const PointGrid::Slot& q) {
-          candidates.push_back({q.tag, q.position});
+          candidates.push_back({q.position, q.index});
         });
-        std::sort(candidates.begin(), candidates.end(),
-                  [](const Candidate& x, const Candidate& y) { return x.id < y.id; });
         for (std::size_t k = first; k < bucket.size(); ++k) {
-          const std::size_t i = std::size_t(bucket[k].index);
-          if (bucket[k].key != key || i >= owned)
+          const std::uint32_t self = bucket[k].index;
+          if (bucket[k].key != key || owned_of[self] < 0)
             continue;
-          const Vec3& p = positions[i];
+          const Vec3& p = positions[self];
+          near.clear();
+          for (std::uint32_t c = 0; c < candidates.size(); ++c)
+            if ((candidates[c].position - p).squaredNorm() < radius2 &&
+                candidates[c].index != self)
+              near.push_back(std::uint64_t(candidates[c].index) << 32 | c);
+          // Insertion sort of a dozen keys.
+          for (std::size_t m = 1; m < near.size(); ++m) {
+            const std::uint64_t value = near[m];
+            std::size_t l = m;
+            for (; l > 0 && near[l - 1] > value; --l)
+              near[l] = near[l - 1];
+            near[l] = value;
+          }
           Vec3 force = Vec3::Zero();
-          for (const Candidate& q : candidates)
-            if (q.id != ids[i] && (q.position - p).squaredNorm() < radius2)
-              force += repulsion(p, ids[i], q.position, q.id, radius);
+          // repulsion() inlined: d < radius holds for every entry.
+          for (const std::uint64_t entry : near) {
+            const Candidate& q = candidates[entry & 0xffffffffu];
+            const Vec3 away = p - q.position;
+            const double d = away.norm();
+            if (d > 1e-9 * radius)
+              force += away * ((radius - d) / d);
+            else
+              force += coincident_repulsion(merged_ids[self], merged_ids[q.index], radius);
+          }
           const Vec3 move = relaxation_move(force, radius, settings);
+          const std::size_t i = std::size_t(owned_of[self]);
           moved[i] = walker.move(points[i], move);
           total_move += move.norm();
         }
@@ -263,19 +298,13 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
   for (std::size_t i = 0; i < all.size(); ++i)
     initial[i] = {all[i].position.x(), all[i].position.y(), all[i].position.z()};
   const auto part = par::morton_partition(initial, comm.size);
-  // The sweeps visit the owned points along the Morton curve of their initial positions, so that
-  // consecutive points share grid cells in cache; the result is put back in id order at the end.
-  const auto keys = par::morton_keys(initial);
   std::vector<std::int64_t> ids;
+  std::vector<SurfacePoint> points;
   for (std::int64_t id = 0; id < count; ++id)
-    if (part[id] == comm.rank)
+    if (part[id] == comm.rank) {
       ids.push_back(id);
-  std::sort(ids.begin(), ids.end(), [&](std::int64_t a, std::int64_t b) {
-    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
-  });
-  std::vector<SurfacePoint> points(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i)
-    points[i] = all[ids[i]];
+      points.push_back(all[id]);
+    }
   const double setup_seconds = MPI_Wtime() - setup_start;
 
   std::vector<double> seconds(settings.iterations), mean_move(settings.iterations);
@@ -321,16 +350,9 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
       m /= double(count) * radius;
     MPI_Allreduce(&max_halo, &report->max_halo_points, 1, MPI_INT64_T, MPI_MAX, comm.raw);
   }
-  std::vector<std::size_t> by_id(ids.size());
-  std::iota(by_id.begin(), by_id.end(), std::size_t{0});
-  std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return ids[a] < ids[b]; });
   DistributedSurfacePoints result;
-  result.ids.reserve(ids.size());
-  result.points.reserve(ids.size());
-  for (const std::size_t i : by_id) {
-    result.ids.push_back(ids[i]);
-    result.points.push_back(points[i]);
-  }
+  result.ids = std::move(ids);
+  result.points = std::move(points);
   return result;
 }
 
@@ -346,7 +368,7 @@ NeighborSpacing nearest_neighbor_spacing(std::span<const Vec3> positions) {
   double cell = std::sqrt(box_area / double(n));
   if (!(cell > 0.0))
     cell = std::max(extent.maxCoeff() / double(n), 1e-300);
-  const PointGrid grid(positions, {}, cell);
+  const PointGrid grid(positions, cell);
   std::vector<double> nearest(n);
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::size_t i = 0; i < n; ++i) {

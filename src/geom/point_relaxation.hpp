@@ -55,9 +55,9 @@ Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings&
 /// One Jacobi sweep on the points of one rank (serial kernel, OpenMP over `points`): every point
 /// sums repulsion() from all points of `points` and `halo` within `radius` of it, in increasing
 /// id order (so the result does not depend on how points are split among ranks or threads), and
-/// moves by relaxation_move() along the surface with `walker`. `ids` must be distinct from the
-/// halo's ids. Returns the new positions, indexed like `points`; `mean_move` (optional) receives
-/// the sum of the move lengths.
+/// moves by relaxation_move() along the surface with `walker`. `ids` must increase and differ
+/// from the halo's ids. Returns the new positions, indexed like `points`; `move_sum` (optional)
+/// receives the sum of the move lengths (model units).
 std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
                                            std::span<const std::int64_t> ids,
                                            std::span<const SurfacePoint> points,

@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
@@ -54,6 +55,18 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
     rates_.push_back(probe[s].diffusion);
     lower_bounds_.push_back(model.lower_bound(std::size_t(s)));
   }
+
+  double row_sum_max = 0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    double row_sum = 0;
+    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e)
+      row_sum += weights_[e];
+    row_sum_max = std::max(row_sum_max, row_sum);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &row_sum_max, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
+  const double fastest = *std::max_element(rates_.begin(), rates_.end());
+  max_stable_dt_ = fastest > 0 && row_sum_max > 0 ? 1.0 / (fastest * row_sum_max)
+                                                  : std::numeric_limits<double>::infinity();
 
   const auto initial = model.initial_state({ids_, xyz_});
   TEXSIM_VERIFY(initial.size() == names_.size(), "model gave " << initial.size()

@@ -43,6 +43,10 @@ public:
   void set_frozen(std::vector<char> frozen);
   std::size_t frozen_count() const;
 
+  /// Largest dt for which the explicit diffusion stays stable and positive: the update of a cell is
+  /// a convex combination of its own and its neighbours' values when dt D_s sum_j weight_ij <= 1.
+  double max_stable_dt() const { return max_stable_dt_; }
+
   /// One explicit step from time t to t + dt. Collective.
   void step(double t);
 
@@ -55,6 +59,7 @@ private:
   const fem_rd::ReactionModel& model_;
   std::vector<std::string> names_;
   double dt_;
+  double max_stable_dt_ = 0;
   std::vector<double> rates_;        ///< D_s of each species
   std::vector<double> lower_bounds_; ///< per species
   std::vector<double> weights_;      ///< (abar / A_i) f_ij w_ij, parallel to the stencil CSR

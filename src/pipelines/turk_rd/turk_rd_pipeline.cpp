@@ -111,6 +111,10 @@ public:
       }
     }
     solver_.set_frozen(std::move(frozen));
+    if (stage.dt > solver_.max_stable_dt())
+      throw InputError(log::cat(stage.key_path, ".dt: expected at most ", solver_.max_stable_dt(),
+                                " (explicit diffusion on these cells is unstable above it), got ",
+                                stage.dt));
   }
 
   CellRdSolver& solver() { return solver_; }

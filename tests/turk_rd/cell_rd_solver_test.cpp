@@ -1,0 +1,101 @@
+// Turk's explicit reaction-diffusion on cells: diffusion alone conserves sum A_i c_i and relaxes to
+// the area-weighted mean; the spot system gives the same bits on any number of ranks as on one;
+// frozen cells keep their values.
+#include "core/config.hpp"
+#include "geom/generators.hpp"
+#include "pipelines/turk_rd/cell_rd_solver.hpp"
+#include "support/gather_by_id.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace texsim::pipelines::turk_rd {
+namespace {
+
+std::unique_ptr<fem_rd::ReactionModel> model_from(const std::string& yaml) {
+  auto config = ConfigDocument::parse(yaml, "test");
+  return fem_rd::make_reaction_model(config.root(), 11);
+}
+
+geom::SurfaceCells make_cells(const par::Comm& comm, const geom::TriangleMesh& mesh,
+                              std::int64_t count) {
+  geom::SurfaceCellsSettings settings;
+  settings.count = count;
+  settings.relaxation.iterations = 15;
+  return geom::SurfaceCells(comm, mesh, geom::MeshTopology(mesh), 2, settings);
+}
+
+TEST(CellRdSolver, DiffusionConservesAndRelaxesToTheMean) {
+  const par::Comm comm = par::world();
+  const auto mesh = geom::icosphere(3);
+  const auto cells = make_cells(comm, mesh, 600);
+  // A diffusing species whose reaction is zero, starting from a function of position; diffusion
+  // 1.5 times as fast on one half of the sphere (the couplings must stay symmetric for
+  // conservation).
+  const auto model = model_from("type: expression\nspecies:\n  u: {diffusion: 0.1, initial: "
+                                "\"x + 0.5 * y * y\"}\n");
+  std::vector<double> scale;
+  for (const auto& p : cells.points())
+    scale.push_back(p.position.x() > 0 ? 1.5 : 1.0);
+  CellRdSolver solver(comm, cells, *model, scale, 1.0);
+  ASSERT_LE(solver.dt(), solver.max_stable_dt());
+  const double initial = solver.integral(0);
+  const double mean = initial / cells.surface_area();
+  const auto spread = [&] {
+    const auto values = solver.owned_values(0);
+    double local = 0;
+    for (const double v : values)
+      local = std::max(local, std::abs(v - mean));
+    double global = 0;
+    MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, comm.raw);
+    return global;
+  };
+  const double spread_before = spread();
+  for (int n = 0; n < 4000; ++n)
+    solver.step(n);
+  EXPECT_NEAR(solver.integral(0), initial, 1e-12 * std::abs(initial) + 1e-13);
+  EXPECT_GT(spread_before, 0.5);
+  EXPECT_LT(spread(), 1e-3 * spread_before) << "did not relax to the mean " << mean;
+}
+
+TEST(CellRdSolver, SpotSystemIsBitIdenticalOnAnyRankCount) {
+  const auto mesh = geom::icosphere(3);
+  const auto model = model_from("type: turing_spots\ns: 0.05\n");
+  const auto run = [&](const par::Comm& comm) {
+    const auto cells = make_cells(comm, mesh, 1500);
+    std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
+    CellRdSolver solver(comm, cells, *model, scale, 1.0);
+    // Freeze a few cells at a raised value: initiators must behave the same everywhere.
+    std::vector<char> frozen(std::size_t(cells.owned_count()), 0);
+    auto a = solver.owned_values(0);
+    for (std::int32_t i = 0; i < cells.owned_count(); ++i)
+      if (cells.ids()[i] % 97 == 0) {
+        frozen[i] = 1;
+        a[i] = 5.0;
+      }
+    solver.set_owned_values(0, a);
+    solver.set_frozen(frozen);
+    for (int n = 0; n < 300; ++n)
+      solver.step(n);
+    std::vector<double> both;
+    for (std::int32_t i = 0; i < cells.owned_count(); ++i)
+      for (std::size_t s = 0; s < 2; ++s)
+        both.push_back(solver.owned_values(s)[i]);
+    return test::gather_by_id(comm, cells.ids(), both, 2);
+  };
+  const auto distributed = run(par::world());
+  const auto serial = run(test::self_comm());
+  ASSERT_EQ(distributed.size(), serial.size());
+  EXPECT_EQ(std::memcmp(distributed.data(), serial.data(), serial.size() * sizeof(double)), 0);
+  for (std::size_t id = 0; id < serial.size() / 2; id += 97)
+    EXPECT_EQ(serial[2 * id], 5.0) << "frozen cell " << id << " changed";
+  const auto [lo, hi] = std::minmax_element(serial.begin(), serial.end());
+  EXPECT_LT(*lo, 3.9) << "no pattern started";
+  EXPECT_GT(*hi, 4.1);
+}
+
+} // namespace
+} // namespace texsim::pipelines::turk_rd
