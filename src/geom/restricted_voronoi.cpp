@@ -19,7 +19,7 @@ namespace texsim::geom {
 namespace {
 
 /// Neighbours kept per seed in the shared cache; a cell that needs more queries again, privately.
-constexpr std::size_t kCachedNeighbours = 16;
+constexpr std::size_t kCachedNeighbours = 20;
 
 /// nanoflann's squared distances and ours may differ by a few ulps: a returned seed is trusted to
 /// belong to the nearest ones only when it is closer than the k-th distance by this relative margin.
