@@ -22,7 +22,8 @@ namespace {
 constexpr std::size_t kCachedNeighbours = 20;
 
 /// nanoflann's squared distances and ours may differ by a few ulps: a returned seed is trusted to
-/// belong to the nearest ones only when it is closer than the k-th distance by this relative margin.
+/// belong to the nearest ones only when it is closer than the k-th distance by this relative
+/// margin.
 constexpr double kTrustMargin = 1e-12;
 
 struct SeedCloud {
@@ -86,7 +87,8 @@ public:
         out.push_back({d2, j});
     }
     std::sort(out.begin(), out.end(), [this](const Neighbour& a, const Neighbour& b) {
-      return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && seed_before(a.seed, b.seed));
+      return a.distance2 < b.distance2 ||
+             (a.distance2 == b.distance2 && seed_before(a.seed, b.seed));
     });
     return complete;
   }
@@ -98,12 +100,12 @@ private:
   KdTree tree_;
 };
 
-/// Per-thread scratch space, reused across triangles.
 struct PolygonVertex {
   Vec3 point;
   std::int32_t label; ///< what made the edge from this vertex to the next: seed index, -1 = mesh
 };
 
+/// Per-thread scratch space, reused across triangles.
 struct Workspace {
   explicit Workspace(std::size_t num_seeds) : visit_stamp(num_seeds, 0) {}
   std::vector<PolygonVertex> polygon, clipped;
@@ -430,9 +432,9 @@ std::vector<VoronoiPiece> restricted_voronoi_pieces(const TriangleMesh& mesh,
                                                     std::span<const Vec3> seeds,
                                                     std::span<const std::int64_t> seed_ids,
                                                     bool keep_polygons) {
-  TEXSIM_VERIFY(seed_ids.size() == seeds.size(), "restricted Voronoi: " << seed_ids.size()
-                                                     << " seed ids for " << seeds.size()
-                                                     << " seeds");
+  TEXSIM_VERIFY(seed_ids.size() == seeds.size(),
+                "restricted Voronoi: " << seed_ids.size() << " seed ids for " << seeds.size()
+                                       << " seeds");
   TEXSIM_VERIFY(seeds.size() < std::size_t{std::numeric_limits<std::int32_t>::max()},
                 "restricted Voronoi: too many seeds (" << seeds.size() << ")");
   std::vector<std::int32_t> order(triangles.begin(), triangles.end());
@@ -446,14 +448,16 @@ std::vector<VoronoiPiece> restricted_voronoi_pieces(const TriangleMesh& mesh,
   }
   if (order.empty())
     return {};
-  TEXSIM_VERIFY(!seeds.empty(), "restricted Voronoi: no seeds for " << order.size()
-                                                                    << " triangles");
+  TEXSIM_VERIFY(!seeds.empty(),
+                "restricted Voronoi: no seeds for " << order.size() << " triangles");
+  for (std::size_t i = 0; i < seeds.size(); ++i)
+    TEXSIM_VERIFY(seeds[i].allFinite(), "restricted Voronoi: seed " << i << " is not finite");
   {
     std::vector<std::int64_t> ids(seed_ids.begin(), seed_ids.end());
     std::sort(ids.begin(), ids.end());
     const auto repeated = std::adjacent_find(ids.begin(), ids.end());
-    TEXSIM_VERIFY(repeated == ids.end(), "restricted Voronoi: seed id " << *repeated
-                                                                        << " given twice");
+    TEXSIM_VERIFY(repeated == ids.end(),
+                  "restricted Voronoi: seed id " << *repeated << " given twice");
   }
 
   RvdBuilder builder(mesh, seeds, seed_ids, keep_polygons);

@@ -23,7 +23,8 @@ struct VoronoiPiece {
   /// (other seed index, length of the border between the two cells inside this triangle), sorted by
   /// seed index; borders along mesh edges/boundaries are not listed. Model units.
   std::vector<std::pair<std::int32_t, double>> borders;
-  std::vector<Vec3> polygon; ///< the clipped convex polygon's vertices in order (only when keep_polygons)
+  std::vector<Vec3>
+      polygon; ///< the clipped convex polygon's vertices in order (only when keep_polygons)
 };
 
 /// The pieces of every triangle in `triangles`: each triangle split exactly into the parts closest
@@ -35,15 +36,18 @@ struct VoronoiPiece {
 /// indices). Result sorted by (triangle, seed id).
 ///
 /// A piece is certified by the security radius: every seed closer to its seed than twice the
-/// piece's radius (farthest polygon vertex) has clipped it. For a rank's part of a mesh, the result
-/// equals the one computed with all seeds when `seeds` holds every seed within 3 rho of the rank's
-/// triangles, rho being the largest distance from a surface point to its nearest seed.
+/// piece's radius (farthest polygon vertex) has clipped it. For a rank's part of a mesh, the pieces
+/// are those computed with all seeds when `seeds` holds every seed within 3 rho of the rank's
+/// triangles, rho being the largest distance from a surface point to its nearest seed (to the bit
+/// in practice; a seed left out could only change round-off, by being the first to clip a large
+/// part of a triangle that nearer seeds clip again later).
 ///
 /// Throws texsim::Error when a cell cannot be certified (its security radius not reached with all
 /// given seeds), meaning the caller's halo of seeds was too small (with the complete seed set this
-/// only happens for a handful of seeds), and when a triangle id is out of range or repeated, or the
-/// seeds are empty while triangles are not. OpenMP over triangles; the result does not depend on
-/// the thread count. Not collective.
+/// only happens for a handful of seeds: no other seed lies beyond twice a cell's radius), and when
+/// a triangle id is out of range or repeated, seed ids repeat, a seed is not finite, or the seeds
+/// are empty while triangles are not. OpenMP over triangles; the result does not depend on the
+/// thread count. Not collective.
 std::vector<VoronoiPiece> restricted_voronoi_pieces(const TriangleMesh& mesh,
                                                     std::span<const std::int32_t> triangles,
                                                     std::span<const Vec3> seeds,

@@ -72,6 +72,22 @@ MinMax global_min_max(const par::Comm& comm, std::span<const double> values) {
   return {global[0], -global[1]};
 }
 
+/// Throws InputError naming the stage's dt when a value left the finite range: the explicit
+/// reaction step is unstable for this dt. Collective.
+void check_finite(const par::Comm& comm, const StageSettings& stage, std::int64_t step,
+                  const std::vector<std::vector<double>>& species) {
+  int bad = 0;
+  for (const auto& values : species)
+    for (const double v : values)
+      bad |= !std::isfinite(v);
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, comm.raw);
+  if (bad)
+    throw InputError(log::cat(stage.key_path, ".dt: the explicit step diverged (non-finite values "
+                                              "after step ",
+                              step, " of stage '", stage.name, "'); use a smaller dt than ",
+                              stage.dt));
+}
+
 /// One stage of the cascade set up on the cells: its solver, frozen cells and start values.
 class StageRun {
 public:
@@ -80,21 +96,30 @@ public:
            std::span<const double> scale, bool fresh)
       : stage_(stage), earlier_names_(earlier_names),
         solver_(comm, cells, *stage.model, scale, stage.dt), xyz_(owned_xyz(cells)) {
-    // Start values: a species carried over from the stage before keeps its values (the fields
-    // hold them under their plain names); on a restart all come from the checkpoint.
-    for (std::size_t s = 0; s < stage.species.size(); ++s) {
-      const auto found = fields.find(stage.species[s]);
-      if (found != fields.end())
-        solver_.set_owned_values(s, found->second);
-      else
-        TEXSIM_VERIFY(fresh, "restart without values of species " << stage.species[s]);
-    }
     std::vector<char> frozen(std::size_t(cells.owned_count()), 0);
     if (!stage.active.empty()) {
       const auto active = CellExpression(stage.active, earlier_names, stage.key_path + ".active")
                               .evaluate(xyz_, columns(fields, earlier_names));
       for (std::size_t i = 0; i < frozen.size(); ++i)
         frozen[i] = active[i] == 0.0;
+    }
+    // Start values: a species carried over from the stage before keeps its values (the fields
+    // hold them under their plain names), except in the active cells of a stage that restarts
+    // them from the model's initial state; on a restart all come from the checkpoint.
+    for (std::size_t s = 0; s < stage.species.size(); ++s) {
+      const auto found = fields.find(stage.species[s]);
+      if (found == fields.end()) {
+        TEXSIM_VERIFY(fresh, "restart without values of species " << stage.species[s]);
+        continue;
+      }
+      auto values = found->second;
+      if (fresh && stage.active_start_initial) {
+        const auto initial = solver_.owned_values(s);
+        for (std::size_t i = 0; i < values.size(); ++i)
+          if (!frozen[i])
+            values[i] = initial[i];
+      }
+      solver_.set_owned_values(s, values);
     }
     for (const auto& initiator : stage.initiators) {
       const auto selected = select_initiator_cells(comm, cells, initiator);
@@ -256,10 +281,11 @@ void TurkRdPipeline::run(RunContext& ctx) {
 
     const auto write_frame = [&](std::int64_t stage_step) {
       auto timer = ctx.timers.scope("output");
-      const auto shown = stage_run.shown(earlier);
       std::vector<std::vector<double>> species;
       for (std::size_t s = 0; s < solver.species_count(); ++s)
         species.push_back(solver.owned_values(s));
+      check_finite(comm, stage, stage_step, species);
+      const auto shown = stage_run.shown(earlier);
       frames->write(stage_begin[k] + stage_step,
                     {stage_time[k] + double(stage_step) * stage.dt, shown, stage.species,
                      species});

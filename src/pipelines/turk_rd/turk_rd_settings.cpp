@@ -64,7 +64,8 @@ std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
 }
 
 RenderSettings read_render(const ConfigSection& render) {
-  RenderSettings settings{PatternColormap::from_config(render, tan_to_dark_stops())};
+  RenderSettings settings;
+  settings.colormap = PatternColormap::from_config(render, tan_to_dark_stops());
   if (render.has("range")) {
     const auto range = render.require<std::vector<double>>("range");
     if (range.size() != 2 || !(range[0] < range[1]))
@@ -123,6 +124,8 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
         entry.fail("active", "no `active` on the first stage (there is no earlier pattern)");
       CellExpression(stage.active, earlier, entry.key_path("active"));
     }
+    stage.active_start_initial = entry.choice<bool>("active_start", false,
+                                                    {{"carried", false}, {"initial", true}});
     stage.show = entry.get<std::string>("show", stage.species.front());
     auto show_names = stage.species;
     show_names.insert(show_names.end(), earlier.begin(), earlier.end());

@@ -41,6 +41,9 @@ struct StageSettings {
   /// Cells where this is zero keep their values during the stage (expression of x, y, z and the
   /// earlier stages' final values "<stage>_<species>"); empty: all cells change.
   std::string active;
+  /// active_start: "carried" (the active cells continue from the earlier stage's values) or
+  /// "initial" (they restart from this stage's model initial state; frozen cells keep theirs).
+  bool active_start_initial = false;
   /// The scalar shown and rendered (expression of this stage's species, x, y, z and earlier
   /// stages' "<stage>_<species>").
   std::string show;
