@@ -1,6 +1,6 @@
 #pragma once
 /// Halo exchange of scattered points: each rank receives the other ranks' points that lie in the
-/// box it needs (its own points' box grown by an interaction radius).
+/// region it needs (its own points' box, or boxes, grown by an interaction radius).
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
@@ -42,5 +42,21 @@ std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
                                            std::span<const std::int64_t> owned_ids,
                                            std::span<const Vec3> owned_positions,
                                            const Box3& needed);
+
+/// Collective over comm. The same with the needed region a union of boxes (an empty span needs
+/// nothing): a point goes to a rank once when any of that rank's boxes holds it. The boxes are
+/// allgathered (their number adds up over the ranks: keep it well below the point count, e.g.
+/// from covering_boxes()); each rank finds the boxes holding each of its points through a grid
+/// index.
+std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
+                                           std::span<const std::int64_t> owned_ids,
+                                           std::span<const Vec3> owned_positions,
+                                           std::span<const Box3> needed);
+
+/// A union of boxes holding every point within `reach` of `positions` and hugging them far more
+/// closely than one bounding box (a rank's share of a surface is rarely box-shaped): the
+/// bounding box of the points in each occupied cell of a grid with cells of edge `cell`, grown
+/// by `reach`, in cell order. Serial; `cell` > 0, `reach` >= 0.
+std::vector<Box3> covering_boxes(std::span<const Vec3> positions, double cell, double reach);
 
 } // namespace texsim::geom

@@ -25,6 +25,10 @@ namespace {
 /// CounterRng stream for the separation direction of coincident points.
 constexpr std::uint32_t kCoincidentPointStream = 0x5402;
 
+/// Cell edge of the halo's covering boxes, in repulsion radii: smaller cells follow a rank's
+/// points more closely (fewer halo points) but make more boxes to allgather.
+constexpr double kHaloCellFactor = 3.0;
+
 /// Uniform hash grid over a point set: cells of a given size hashed into about two buckets per
 /// point. Each bucket stores its points contiguously (cell key, position, index) in increasing
 /// index order, so a cell's points are read from one run of memory, hash collisions are filtered
@@ -35,9 +39,11 @@ public:
     std::uint64_t key;
     Vec3 position;
     std::uint32_t index; ///< index in the span the grid was built from
+    std::int32_t label;  ///< caller's label of the point (-1 when none was given)
   };
 
-  PointGrid(std::span<const Vec3> points, double cell) {
+  PointGrid(std::span<const Vec3> points, double cell,
+            std::span<const std::int32_t> labels = {}) {
     const Box3 box = Box3::around(points);
     origin_ = box.empty() ? Vec3::Zero() : box.lo;
     const double extent = box.empty() ? 0.0 : (box.hi - box.lo).maxCoeff();
@@ -61,7 +67,8 @@ public:
     slots_.resize(points.size());
     std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
     for (std::size_t i = 0; i < points.size(); ++i)
-      slots_[fill[bucket[i]]++] = {key[i], points[i], static_cast<std::uint32_t>(i)};
+      slots_[fill[bucket[i]]++] = {key[i], points[i], static_cast<std::uint32_t>(i),
+                                   labels.empty() ? -1 : labels[i]};
   }
 
   double cell() const { return cell_; }
@@ -114,9 +121,17 @@ private:
   static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
     return std::uint64_t(x) | std::uint64_t(y) << 21 | std::uint64_t(z) << 42;
   }
+  // The eight cells of a 2 x 2 x 2 block get consecutive buckets, so that walking the buckets in
+  // order visits neighbouring cells one after the other (their neighbourhoods overlap in cache).
   std::uint32_t bucket_of(std::uint64_t key) const {
-    return static_cast<std::uint32_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
+    const std::uint64_t block = (key >> 1) & kBlockMask;
+    const std::uint64_t corner = (key & 1) | (key >> 20 & 2) | (key >> 40 & 4);
+    return static_cast<std::uint32_t>(((block * 0x9E3779B97F4A7C15ULL) >> (shift_ + 3)) << 3 |
+                                      corner);
   }
+  // Clears the lowest bit of each axis' 21 (after the shift by one: bits 20, 41, 62 are stale).
+  static constexpr std::uint64_t kBlockMask = ~((std::uint64_t{1} << 20) | (std::uint64_t{1} << 41) |
+                                                (std::uint64_t{1} << 62));
 
   Vec3 origin_;
   double cell_ = 1.0;
@@ -181,7 +196,7 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
                                                                    << points.size() << " points");
   TEXSIM_VERIFY(radius > 0.0, "relaxation_sweep: radius " << radius << " must be positive");
   TEXSIM_VERIFY(std::is_sorted(ids.begin(), ids.end()), "relaxation_sweep: ids must increase");
-  TEXSIM_VERIFY(points.size() + halo.size() < (std::size_t{1} << 32),
+  TEXSIM_VERIFY(points.size() + halo.size() < (std::size_t{1} << 31),
                 "relaxation_sweep: too many points for one rank");
   // All points of this sweep, owned and halo, merged in increasing id order: a point's index is
   // its rank by id, so neighbours are sorted by id by sorting indices.
@@ -189,21 +204,21 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
   const std::size_t total = owned + halo.size();
   std::vector<Vec3> positions(total);
   std::vector<std::int64_t> merged_ids(total);
-  std::vector<std::int64_t> owned_of(total, -1); // owned index of merged point, -1 for halo
+  std::vector<std::int32_t> owned_of(total, -1); // owned index of merged point, -1 for halo
   {
     std::size_t i = 0, h = 0;
     for (std::size_t m = 0; m < total; ++m) {
       if (h == halo.size() || (i < owned && ids[i] < halo[h].id)) {
         positions[m] = points[i].position;
         merged_ids[m] = ids[i];
-        owned_of[m] = std::int64_t(i++);
+        owned_of[m] = static_cast<std::int32_t>(i++);
       } else {
         positions[m] = halo[h].position;
         merged_ids[m] = halo[h++].id;
       }
     }
   }
-  const PointGrid grid(positions, radius);
+  const PointGrid grid(positions, radius, owned_of);
   const double radius2 = radius * radius;
   std::vector<SurfacePoint> moved(owned);
   double total_move = 0.0;
@@ -226,7 +241,7 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
       done_keys.clear();
       for (std::size_t first = 0; first < bucket.size(); ++first) {
         const std::uint64_t key = bucket[first].key;
-        if (owned_of[bucket[first].index] < 0 ||
+        if (bucket[first].label < 0 ||
             std::find(done_keys.begin(), done_keys.end(), key) != done_keys.end())
           continue;
         done_keys.push_back(key);
@@ -236,9 +251,9 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
         });
         for (std::size_t k = first; k < bucket.size(); ++k) {
           const std::uint32_t self = bucket[k].index;
-          if (bucket[k].key != key || owned_of[self] < 0)
+          if (bucket[k].key != key || bucket[k].label < 0)
             continue;
-          const Vec3& p = positions[self];
+          const Vec3& p = bucket[k].position;
           near.clear();
           for (std::uint32_t c = 0; c < candidates.size(); ++c)
             if ((candidates[c].position - p).squaredNorm() < radius2 &&
@@ -264,7 +279,7 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
               force += coincident_repulsion(merged_ids[self], merged_ids[q.index], radius);
           }
           const Vec3 move = relaxation_move(force, radius, settings);
-          const std::size_t i = std::size_t(owned_of[self]);
+          const std::size_t i = std::size_t(bucket[k].label);
           moved[i] = walker.move(points[i], move);
           total_move += move.norm();
         }
@@ -317,8 +332,8 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
     const double start = MPI_Wtime();
     for (std::size_t i = 0; i < positions.size(); ++i)
       positions[i] = points[i].position;
-    const auto halo =
-        exchange_point_halo(comm, ids, positions, Box3::around(positions).expanded(radius));
+    const auto halo = exchange_point_halo(
+        comm, ids, positions, covering_boxes(positions, kHaloCellFactor * radius, radius));
     max_halo = std::max<std::int64_t>(max_halo, std::int64_t(halo.size()));
     double move_sum = 0.0;
     points = relaxation_sweep(walker, ids, points, halo, radius, settings, &move_sum);

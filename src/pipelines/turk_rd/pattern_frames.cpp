@@ -5,6 +5,8 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/point_halo.hpp"
 #include "io/parallel_surface_writer.hpp"
+#include "core/error.hpp"
+#include "par/collective.hpp"
 #include "par/morton_partition.hpp"
 
 #include <mpi.h>
@@ -45,9 +47,17 @@ PatternFrames::PatternFrames(const par::Comm& comm, const geom::TriangleMesh& in
                              std::optional<double> restart_time)
     : comm_(comm), cells_(cells), render_(render), output_dir_(output_dir),
       piece_(std::make_unique<RenderPiece>()) {
-  const geom::TriangleMesh mesh = render.subdivision_levels > 0
-                                      ? geom::loop_subdivide(input_mesh, render.subdivision_levels)
-                                      : input_mesh;
+  geom::TriangleMesh mesh = input_mesh;
+  if (render.subdivision_levels > 0)
+    par::run_collectively(comm, [&] {
+      try {
+        mesh = geom::loop_subdivide(input_mesh, render.subdivision_levels);
+      } catch (const Error& error) {
+        throw InputError(std::string("turk_rd.render.subdivision_levels: this mesh cannot be "
+                                     "Loop-subdivided (") +
+                         error.what() + "); use 0");
+      }
+    });
   std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];

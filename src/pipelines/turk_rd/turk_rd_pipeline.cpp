@@ -198,6 +198,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
     for (const double a : cells.areas())
       local_area += a;
     MPI_Allreduce(&local_area, &total_cell_area, 1, MPI_DOUBLE, MPI_SUM, comm.raw);
+    const double mean_area = cells.surface_area() / double(cells.global_count());
+    const auto area_range = global_min_max(comm, cells.areas());
+    const auto coupling_range = global_min_max(comm, cells.couplings());
     const auto& q = cells.quality();
     const auto& relaxation = cells.relaxation();
     report.metric("cells", {{"count", cells.global_count()},
@@ -205,6 +208,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
                             {"cell_area_sum_relative_error",
                              (total_cell_area - cells.surface_area()) / cells.surface_area()},
                             {"spacing", cells.spacing()},
+                            {"area_min_over_mean", area_range.min / mean_area},
+                            {"area_max_over_mean", area_range.max / mean_area},
+                            {"coupling_max", coupling_range.max},
                             {"relaxation_radius", relaxation.radius},
                             {"relaxation_iterations", settings_.cells.relaxation.iterations}});
     report.metric("partition", {{"method", "morton"},
@@ -214,6 +220,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
     log::info(log::cat("retiling: ", cells.global_count(), " cells on ", surface.num_triangles(),
                        " triangles, cell areas sum to the surface area within ",
                        std::abs(total_cell_area - cells.surface_area()) / cells.surface_area(),
+                       ", areas ", area_range.min / mean_area, " to ", area_range.max / mean_area,
+                       " of the mean, couplings up to ", coupling_range.max,
                        "; partition edge cut ", q.edge_cut, ", imbalance ", q.imbalance));
   }
 
