@@ -16,10 +16,10 @@ using Factory = std::function<std::unique_ptr<pipelines::Pipeline>()>;
 const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> entries = {
       {"fem_rd", [] { return std::make_unique<pipelines::fem_rd::FemRdPipeline>(); }},
-      {"turk_rd", [] { return std::make_unique<pipelines::turk_rd::TurkRdPipeline>(); }},
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
       {"solid_synthesis",
        [] { return std::make_unique<pipelines::solid_synthesis::SolidSynthesisPipeline>(); }},
+      {"turk_rd", [] { return std::make_unique<pipelines::turk_rd::TurkRdPipeline>(); }},
   };
   return entries;
 }

@@ -80,8 +80,7 @@ public:
       visit(b);
     if (keys_.empty())
       return;
-    const std::uint64_t k =
-        key(cell_index(p.x(), 0), cell_index(p.y(), 1), cell_index(p.z(), 2));
+    const std::uint64_t k = key(cell_index(p.x(), 0), cell_index(p.y(), 1), cell_index(p.z(), 2));
     const auto first = std::lower_bound(keys_.begin(), keys_.end(), k);
     for (auto it = first; it != keys_.end() && *it == k; ++it)
       visit(listed_[it - keys_.begin()]);
@@ -126,9 +125,9 @@ Box3 Box3::around(std::span<const Vec3> points) {
 }
 
 std::vector<Box3> covering_boxes(std::span<const Vec3> positions, double cell, double reach) {
-  TEXSIM_VERIFY(cell > 0.0 && reach >= 0.0,
-                "covering_boxes: cell " << cell << " must be positive, reach " << reach
-                                        << " not negative");
+  TEXSIM_VERIFY(cell > 0.0 && reach >= 0.0, "covering_boxes: cell "
+                                                << cell << " must be positive, reach " << reach
+                                                << " not negative");
   const Box3 extent = Box3::around(positions);
   if (extent.empty())
     return {};
@@ -154,7 +153,8 @@ std::vector<Box3> covering_boxes(std::span<const Vec3> positions, double cell, d
   std::vector<std::size_t> order(boxes.size());
   for (std::size_t b = 0; b < order.size(); ++b)
     order[b] = b;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
   std::vector<Box3> result;
   result.reserve(boxes.size());
   for (const std::size_t b : order)
@@ -176,8 +176,8 @@ std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
                                            std::span<const Vec3> owned_positions,
                                            std::span<const Box3> needed) {
   TEXSIM_VERIFY(owned_ids.size() == owned_positions.size(),
-                "exchange_point_halo: " << owned_ids.size() << " ids but "
-                                        << owned_positions.size() << " positions");
+                "exchange_point_halo: " << owned_ids.size() << " ids but " << owned_positions.size()
+                                        << " positions");
   const int ranks = comm.size;
   TEXSIM_VERIFY(needed.size() < std::size_t(1) << 28,
                 "exchange_point_halo: too many boxes (" << needed.size() << ")");
@@ -238,8 +238,8 @@ std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
       const int r = box_rank[b];
       if (last_sent[r] != std::int64_t(i) && boxes[b].contains(p)) {
         last_sent[r] = std::int64_t(i);
-        outgoing[r].push_back({owned_ids[i], p.x(), p.y(), p.z(), comm.rank,
-                               static_cast<std::int32_t>(i)});
+        outgoing[r].push_back(
+            {owned_ids[i], p.x(), p.y(), p.z(), comm.rank, static_cast<std::int32_t>(i)});
       }
     });
   }

@@ -42,8 +42,7 @@ public:
     std::int32_t label;  ///< caller's label of the point (-1 when none was given)
   };
 
-  PointGrid(std::span<const Vec3> points, double cell,
-            std::span<const std::int32_t> labels = {}) {
+  PointGrid(std::span<const Vec3> points, double cell, std::span<const std::int32_t> labels = {}) {
     const Box3 box = Box3::around(points);
     origin_ = box.empty() ? Vec3::Zero() : box.lo;
     const double extent = box.empty() ? 0.0 : (box.hi - box.lo).maxCoeff();
@@ -86,9 +85,9 @@ public:
   /// The same around the cell with key `key`.
   template <class Visit> void for_each_near_key(std::uint64_t key, int rings, Visit&& visit) const {
     const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-    for_each_near_cell({std::int64_t(key & mask), std::int64_t(key >> 21 & mask),
-                        std::int64_t(key >> 42 & mask)},
-                       rings, visit);
+    for_each_near_cell(
+        {std::int64_t(key & mask), std::int64_t(key >> 21 & mask), std::int64_t(key >> 42 & mask)},
+        rings, visit);
   }
 
 private:
@@ -130,8 +129,8 @@ private:
                                       corner);
   }
   // Clears the lowest bit of each axis' 21 (after the shift by one: bits 20, 41, 62 are stale).
-  static constexpr std::uint64_t kBlockMask = ~((std::uint64_t{1} << 20) | (std::uint64_t{1} << 41) |
-                                                (std::uint64_t{1} << 62));
+  static constexpr std::uint64_t kBlockMask =
+      ~((std::uint64_t{1} << 20) | (std::uint64_t{1} << 41) | (std::uint64_t{1} << 62));
 
   Vec3 origin_;
   double cell_ = 1.0;
@@ -176,7 +175,6 @@ Vec3 repulsion(const Vec3& p, std::int64_t p_id, const Vec3& q, std::int64_t q_i
   return coincident_repulsion(p_id, q_id, radius);
 }
 
-
 Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings& settings) {
   const double neighbours = std::numbers::pi * settings.radius_factor * settings.radius_factor;
   Vec3 move = (settings.step / neighbours) * force;
@@ -192,8 +190,8 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
                                            std::span<const SurfacePoint> points,
                                            std::span<const HaloPoint> halo, double radius,
                                            const RelaxationSettings& settings, double* move_sum) {
-  TEXSIM_VERIFY(ids.size() == points.size(), "relaxation_sweep: " << ids.size() << " ids but "
-                                                                   << points.size() << " points");
+  TEXSIM_VERIFY(ids.size() == points.size(),
+                "relaxation_sweep: " << ids.size() << " ids but " << points.size() << " points");
   TEXSIM_VERIFY(radius > 0.0, "relaxation_sweep: radius " << radius << " must be positive");
   TEXSIM_VERIFY(std::is_sorted(ids.begin(), ids.end()), "relaxation_sweep: ids must increase");
   TEXSIM_VERIFY(points.size() + halo.size() < (std::size_t{1} << 31),
@@ -256,8 +254,7 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
           const Vec3& p = bucket[k].position;
           near.clear();
           for (std::uint32_t c = 0; c < candidates.size(); ++c)
-            if ((candidates[c].position - p).squaredNorm() < radius2 &&
-                candidates[c].index != self)
+            if ((candidates[c].position - p).squaredNorm() < radius2 && candidates[c].index != self)
               near.push_back(std::uint64_t(candidates[c].index) << 32 | c);
           // Insertion sort of a dozen keys.
           for (std::size_t m = 1; m < near.size(); ++m) {
@@ -358,8 +355,8 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
     if (!seconds.empty()) {
       MPI_Allreduce(seconds.data(), report->seconds_per_iteration.data(), int(seconds.size()),
                     MPI_DOUBLE, MPI_MAX, comm.raw);
-      MPI_Allreduce(mean_move.data(), report->mean_move_per_iteration.data(),
-                    int(mean_move.size()), MPI_DOUBLE, MPI_SUM, comm.raw);
+      MPI_Allreduce(mean_move.data(), report->mean_move_per_iteration.data(), int(mean_move.size()),
+                    MPI_DOUBLE, MPI_SUM, comm.raw);
     }
     for (double& m : report->mean_move_per_iteration)
       m /= double(count) * radius;

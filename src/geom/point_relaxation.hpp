@@ -16,6 +16,10 @@
 
 namespace texsim::geom {
 
+/// Defaults measured on a unit icosphere (2000 to 20000 points) and the Stanford bunny (20000 and
+/// 100000 points): the coefficient of variation of nearest-neighbour distances falls from 0.52
+/// (random) to 0.08 after 10 sweeps and 0.048 after 40. A step of 2 converges slightly faster,
+/// 3 and more oscillate.
 struct RelaxationSettings {
   int iterations = 40;        ///< Turk's relaxation sweeps
   double radius_factor = 2.0; ///< repulsion radius r = radius_factor * sqrt(surface area / n)
@@ -26,10 +30,10 @@ struct RelaxationSettings {
 };
 
 struct RelaxationReport {
-  double radius = 0.0;                        ///< repulsion radius r, model units
-  std::vector<double> seconds_per_iteration;  ///< wall time of each sweep, max over ranks
-  double seconds_setup = 0.0;                 ///< placement and partition, max over ranks
-  std::int64_t max_halo_points = 0;           ///< largest halo any rank received in a sweep
+  double radius = 0.0;                       ///< repulsion radius r, model units
+  std::vector<double> seconds_per_iteration; ///< wall time of each sweep, max over ranks
+  double seconds_setup = 0.0;                ///< placement and partition, max over ranks
+  std::int64_t max_halo_points = 0;          ///< largest halo any rank received in a sweep
   /// Mean move per point of each sweep as a fraction of r (all ranks): falls as points settle.
   std::vector<double> mean_move_per_iteration;
 };
@@ -58,19 +62,17 @@ Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings&
 /// moves by relaxation_move() along the surface with `walker`. `ids` must increase and differ
 /// from the halo's ids. Returns the new positions, indexed like `points`; `move_sum` (optional)
 /// receives the sum of the move lengths (model units).
-std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
-                                           std::span<const std::int64_t> ids,
-                                           std::span<const SurfacePoint> points,
-                                           std::span<const HaloPoint> halo, double radius,
-                                           const RelaxationSettings& settings,
-                                           double* move_sum = nullptr);
+std::vector<SurfacePoint>
+relaxation_sweep(const SurfaceWalker& walker, std::span<const std::int64_t> ids,
+                 std::span<const SurfacePoint> points, std::span<const HaloPoint> halo,
+                 double radius, const RelaxationSettings& settings, double* move_sum = nullptr);
 
 /// Collective over comm. Places `count` random points (random_surface_points with ids
 /// 0..count-1 and `seed`), gives each rank a part by par::morton_partition of the initial
 /// positions (ownership then stays fixed), and runs settings.iterations sweeps of Turk's
 /// relaxation with r = repulsion_radius(total area, count, radius_factor): each sweep refreshes
-/// the halo (exchange_point_halo with the owned points' box grown by r) and calls
-/// relaxation_sweep(). The gathered result is the same, bit for bit, on any number of ranks and
+/// the halo (exchange_point_halo with the covering_boxes() of the owned points, cells of 3 r,
+/// grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on any number of ranks and
 /// threads. Prints a progress line on rank 0 when the sweeps take long. `report` (optional, not
 /// owned) receives radius and timings, the same on every rank.
 DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,

@@ -19,8 +19,8 @@ AreaSampler::AreaSampler(const TriangleMesh& mesh) : mesh_(mesh) {
       last_positive_ = static_cast<std::int32_t>(t);
   }
   TEXSIM_VERIFY(last_positive_ >= 0 && sum > 0.0,
-                "AreaSampler: the mesh has no triangle of positive area ("
-                    << mesh_.num_triangles() << " triangles)");
+                "AreaSampler: the mesh has no triangle of positive area (" << mesh_.num_triangles()
+                                                                           << " triangles)");
 }
 
 std::int32_t AreaSampler::triangle_for(double u) const {
@@ -46,9 +46,9 @@ SurfacePoint AreaSampler::sample(const CounterRng& rng, std::uint64_t id) const 
 
 std::vector<SurfacePoint> random_surface_points(const TriangleMesh& mesh, std::int64_t first_id,
                                                 std::int64_t count, std::uint64_t seed) {
-  TEXSIM_VERIFY(first_id >= 0 && count >= 0, "random_surface_points: first_id " << first_id
-                                                  << " and count " << count
-                                                  << " must not be negative");
+  TEXSIM_VERIFY(first_id >= 0 && count >= 0, "random_surface_points: first_id "
+                                                 << first_id << " and count " << count
+                                                 << " must not be negative");
   const AreaSampler sampler(mesh);
   const CounterRng rng(seed, kRandomSurfacePointStream);
   std::vector<SurfacePoint> points(static_cast<std::size_t>(count));

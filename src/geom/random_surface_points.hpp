@@ -35,8 +35,8 @@ public:
 
 private:
   TriangleMesh mesh_;
-  std::vector<double> prefix_areas_;   ///< inclusive prefix sums of the triangle areas
-  std::int32_t last_positive_ = -1;    ///< the last triangle of positive area
+  std::vector<double> prefix_areas_; ///< inclusive prefix sums of the triangle areas
+  std::int32_t last_positive_ = -1;  ///< the last triangle of positive area
 };
 
 /// Points with ids first_id .. first_id + count - 1, each from

@@ -38,8 +38,7 @@ Vec3 inward_normal(const Vec3& a, const Vec3& edge, const Vec3& opposite) {
 SurfaceWalker::SurfaceWalker(const TriangleMesh& mesh, const MeshTopology& topology) {
   TEXSIM_VERIFY(topology.num_triangles() == mesh.num_triangles(),
                 "SurfaceWalker: topology has " << topology.num_triangles()
-                                               << " triangles, the mesh "
-                                               << mesh.num_triangles());
+                                               << " triangles, the mesh " << mesh.num_triangles());
   faces_.resize(mesh.triangles.size());
   for (std::size_t t = 0; t < faces_.size(); ++t) {
     Face& f = faces_[t];
