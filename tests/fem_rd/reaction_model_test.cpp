@@ -377,3 +377,48 @@ TEST(Factory, ReadsOnlyTheChosenModelsKeys) {
 
 } // namespace
 } // namespace texsim::pipelines::fem_rd
+
+namespace texsim::pipelines::fem_rd {
+namespace {
+
+/// Rates C2 u + C3 of every species at every vertex for the given state.
+std::vector<std::vector<double>> rates(const ReactionModel& model, const VertexData& vertices,
+                                       const std::vector<std::vector<double>>& state) {
+  std::vector<std::span<const double>> spans(state.begin(), state.end());
+  std::vector<SpeciesCoefficients> out;
+  model.coefficients(0.0, spans, vertices, out);
+  std::vector<std::vector<double>> result(state.size());
+  for (std::size_t s = 0; s < state.size(); ++s)
+    for (std::size_t v = 0; v < state[s].size(); ++v)
+      result[s].push_back(out[s].linear[v] * state[s][v] + out[s].source[v]);
+  return result;
+}
+
+TEST(MeinhardtStripes, StartsAtTheUniformSteadyState) {
+  const auto built = build("{type: meinhardt_stripes, substrate_spread: 0}");
+  Fixture f(20);
+  const auto initial = built.model->initial_state(f.vertices());
+  ASSERT_EQ(initial.size(), 5u);
+  EXPECT_DOUBLE_EQ(initial[0][0], 0.75); // beta / (2 alpha)
+  EXPECT_DOUBLE_EQ(initial[2][0], 0.140625);
+  for (const auto& species : rates(*built.model, f.vertices(), initial))
+    for (const double rate : species)
+      EXPECT_NEAR(rate, 0.0, 1e-15);
+}
+
+TEST(MeinhardtStripes, RatesAreMeinhardtsEquations) {
+  const auto built = build("{type: meinhardt_stripes, substrate_spread: 0, rho0: 0.001, "
+                           "rho1: 0.002}");
+  Fixture f(1);
+  const double g1 = 0.9, g2 = 0.4, r = 0.2, s1 = 0.6, s2 = 0.8;
+  const auto rate = rates(*built.model, f.vertices(), {{g1}, {g2}, {r}, {s1}, {s2}});
+  expect_close(rate[0][0], 0.01 * s2 * g1 * g1 / r - 0.04 * g1 + 0.001);
+  expect_close(rate[1][0], 0.01 * s1 * g2 * g2 / r - 0.04 * g2 + 0.001);
+  expect_close(rate[2][0], 0.01 * s2 * g1 * g1 + 0.01 * s1 * g2 * g2 - 0.06 * r);
+  expect_close(rate[3][0], 0.04 * (g1 - s1) + 0.002);
+  expect_close(rate[4][0], 0.04 * (g2 - s2) + 0.002);
+  EXPECT_EQ(built.model->species(), (std::vector<std::string>{"g1", "g2", "r", "s1", "s2"}));
+}
+
+} // namespace
+} // namespace texsim::pipelines::fem_rd

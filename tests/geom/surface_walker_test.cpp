@@ -88,11 +88,11 @@ TEST(SurfaceWalker, WalkOnAFlatMeshIsStraightLineMotion) {
     expect_on_triangle(mesh, moved);
   }
   // Through vertices and along edges: diagonal walks pass exactly through grid vertices.
-  for (const auto& [start, d] : std::vector<std::pair<Vec3, Vec3>>{
-           {Vec3(2.5, 2.5, 0), Vec3(3, 3, 0)},
-           {Vec3(1.5, 2.0, 0), Vec3(4, 0, 0)},
-           {Vec3(3.0, 3.0, 0), Vec3(-2, 2, 0)},
-           {Vec3(2.25, 7.5, 0), Vec3(5, -5, 0)}}) {
+  for (const auto& [start, d] :
+       std::vector<std::pair<Vec3, Vec3>>{{Vec3(2.5, 2.5, 0), Vec3(3, 3, 0)},
+                                          {Vec3(1.5, 2.0, 0), Vec3(4, 0, 0)},
+                                          {Vec3(3.0, 3.0, 0), Vec3(-2, 2, 0)},
+                                          {Vec3(2.25, 7.5, 0), Vec3(5, -5, 0)}}) {
     const auto moved = walker.move({start, find_triangle(mesh, start)}, d);
     EXPECT_LT((moved.position - (start + d)).norm(), 1e-12) << start.transpose();
     expect_on_triangle(mesh, moved);
@@ -184,7 +184,8 @@ TEST(SurfaceWalker, StopsOnBoundaryAndNonManifoldEdges) {
   expect_on_triangle(mesh, stopped);
   // Into a corner.
   const Vec3 near_corner(0.5, 0.25, 0);
-  const auto cornered = walker.move({near_corner, find_triangle(mesh, near_corner)}, Vec3(-1, -0.5, 0));
+  const auto cornered =
+      walker.move({near_corner, find_triangle(mesh, near_corner)}, Vec3(-1, -0.5, 0));
   EXPECT_LT((cornered.position - Vec3(0, 0, 0)).norm(), 1e-12);
 
   // Three triangles sharing the edge (0,0,0)-(0,1,0): a fin.
