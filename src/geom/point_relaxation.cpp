@@ -194,6 +194,9 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
                 "relaxation_sweep: " << ids.size() << " ids but " << points.size() << " points");
   TEXSIM_VERIFY(radius > 0.0, "relaxation_sweep: radius " << radius << " must be positive");
   TEXSIM_VERIFY(std::is_sorted(ids.begin(), ids.end()), "relaxation_sweep: ids must increase");
+  TEXSIM_VERIFY(std::is_sorted(halo.begin(), halo.end(),
+                               [](const HaloPoint& a, const HaloPoint& b) { return a.id < b.id; }),
+                "relaxation_sweep: halo points must be sorted by id");
   TEXSIM_VERIFY(points.size() + halo.size() < (std::size_t{1} << 31),
                 "relaxation_sweep: too many points for one rank");
   // All points of this sweep, owned and halo, merged in increasing id order: a point's index is

@@ -59,9 +59,10 @@ Vec3 relaxation_move(const Vec3& force, double radius, const RelaxationSettings&
 /// One Jacobi sweep on the points of one rank (serial kernel, OpenMP over `points`): every point
 /// sums repulsion() from all points of `points` and `halo` within `radius` of it, in increasing
 /// id order (so the result does not depend on how points are split among ranks or threads), and
-/// moves by relaxation_move() along the surface with `walker`. `ids` must increase and differ
-/// from the halo's ids. Returns the new positions, indexed like `points`; `move_sum` (optional)
-/// receives the sum of the move lengths (model units).
+/// moves by relaxation_move() along the surface with `walker`. `ids` must increase, `halo` be
+/// sorted by id (as exchange_point_halo() returns it), and no id appear twice. Returns the new
+/// positions, indexed like `points`; `move_sum` (optional) receives the sum of the move lengths
+/// (model units).
 std::vector<SurfacePoint>
 relaxation_sweep(const SurfaceWalker& walker, std::span<const std::int64_t> ids,
                  std::span<const SurfacePoint> points, std::span<const HaloPoint> halo,
@@ -72,9 +73,9 @@ relaxation_sweep(const SurfaceWalker& walker, std::span<const std::int64_t> ids,
 /// positions (ownership then stays fixed), and runs settings.iterations sweeps of Turk's
 /// relaxation with r = repulsion_radius(total area, count, radius_factor): each sweep refreshes
 /// the halo (exchange_point_halo with the covering_boxes() of the owned points, cells of 3 r,
-/// grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on any number of ranks and
-/// threads. Prints a progress line on rank 0 when the sweeps take long. `report` (optional, not
-/// owned) receives radius and timings, the same on every rank.
+/// grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on any
+/// number of ranks and threads. Prints a progress line on rank 0 when the sweeps take long.
+/// `report` (optional, not owned) receives radius and timings, the same on every rank.
 DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,
                                                 const MeshTopology& topology, std::int64_t count,
                                                 std::uint64_t seed,

@@ -63,15 +63,70 @@ SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
   TEXSIM_VERIFY(settings.count > 0, "SurfaceCells needs at least one cell");
   surface_area_ = total_area(mesh);
   spacing_ = std::sqrt(surface_area_ / double(settings.count));
-  auto relaxed = relaxed_surface_points(comm, mesh, topology, settings.count, seed,
-                                        settings.relaxation, &relaxation_);
-  ids_ = std::move(relaxed.ids);
-  points_ = std::move(relaxed.points);
+  number_along_morton_curve(
+      comm, mesh,
+      relaxed_surface_points(comm, mesh, topology, settings.count, seed, settings.relaxation,
+                             &relaxation_));
   rank_offsets_ = offsets_of_ranks(comm, owned_count());
   owned_begin_ = rank_offsets_[comm.rank];
   build_view(comm, mesh, settings.halo_spacings * spacing_);
   reduce_pieces(comm);
   build_stencil(comm);
+}
+
+void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const TriangleMesh& mesh,
+                                             DistributedSurfacePoints relaxed) {
+  // Keys inside the mesh's bounding box, the same on every rank.
+  std::array<double, 3> lo{}, hi{};
+  const Box3 box = Box3::around(mesh.positions);
+  for (int axis = 0; axis < 3; ++axis) {
+    lo[axis] = box.lo[axis];
+    hi[axis] = box.hi[axis];
+  }
+  struct Keyed {
+    std::uint64_t key;
+    std::int64_t point_id;
+  };
+  std::vector<Keyed> local;
+  for (std::size_t i = 0; i < relaxed.points.size(); ++i) {
+    const auto& p = relaxed.points[i].position;
+    local.push_back({par::morton_key({p.x(), p.y(), p.z()}, lo, hi), relaxed.ids[i]});
+  }
+  std::vector<int> counts(comm.size), offsets(comm.size, 0);
+  const int bytes = int(local.size() * sizeof(Keyed));
+  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
+  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
+  std::vector<Keyed> all(std::size_t(offsets.back() + counts.back()) / sizeof(Keyed));
+  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
+                 MPI_BYTE, comm.raw);
+  std::sort(all.begin(), all.end(), [](const Keyed& a, const Keyed& b) {
+    return std::tie(a.key, a.point_id) < std::tie(b.key, b.point_id);
+  });
+  std::vector<std::int64_t> cell_of_point(all.size());
+  for (std::size_t k = 0; k < all.size(); ++k)
+    cell_of_point[std::size_t(all[k].point_id)] = std::int64_t(k);
+
+  // Equal contiguous runs of cell ids per rank.
+  struct Moved {
+    std::int64_t cell;
+    double xyz[3];
+    std::int32_t triangle;
+  };
+  const std::int64_t n = global_count_;
+  std::vector<std::vector<Moved>> outgoing(comm.size);
+  for (std::size_t i = 0; i < relaxed.points.size(); ++i) {
+    const std::int64_t cell = cell_of_point[std::size_t(relaxed.ids[i])];
+    const auto& p = relaxed.points[i];
+    outgoing[std::size_t(cell * comm.size / n)].push_back(
+        {cell, {p.position.x(), p.position.y(), p.position.z()}, p.triangle});
+  }
+  auto received = par::exchange_records(comm, outgoing);
+  std::sort(received.begin(), received.end(),
+            [](const Moved& a, const Moved& b) { return a.cell < b.cell; });
+  for (const auto& m : received) {
+    ids_.push_back(m.cell);
+    points_.push_back({Vec3(m.xyz[0], m.xyz[1], m.xyz[2]), m.triangle});
+  }
 }
 
 void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {

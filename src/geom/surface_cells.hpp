@@ -5,12 +5,13 @@
 /// and, per neighbour, the coupling (shared border length / distance between the centres) that
 /// weighs diffusion between them.
 ///
-/// Distribution: cells are owned by the rank their point was given to by the relaxation's Morton
-/// partition, numbered consecutively per rank (the PETSc block numbering of par::GhostedVector);
+/// Distribution: after relaxation the cells are numbered along a Morton curve of their positions
+/// (neighbours get near ids, so stencil loops stay in cache) and each rank owns an equal
+/// contiguous run of ids, which is also the PETSc block numbering of par::GhostedVector;
 /// the input triangles are Morton-partitioned separately, and each rank computes the Voronoi pieces
 /// of its triangles from its own cells plus a halo, then sends areas and border lengths to the
-/// cells' owners. Cell ids are the points' ids (0..n-1), fixed by the seed: every per-cell sum runs
-/// in id order, so every number here is the same on any number of ranks.
+/// cells' owners. Cell ids depend only on the seed and the mesh: every per-cell sum runs in id
+/// order, so every number here is the same on any number of ranks.
 #include "geom/mesh_topology.hpp"
 #include "geom/point_relaxation.hpp"
 #include "geom/restricted_voronoi.hpp"
@@ -80,6 +81,8 @@ public:
   const RelaxationReport& relaxation() const { return relaxation_; }
 
 private:
+  void number_along_morton_curve(const par::Comm& comm, const TriangleMesh& mesh,
+                                 DistributedSurfacePoints relaxed);
   void build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo);
   void reduce_pieces(const par::Comm& comm);
   void build_stencil(const par::Comm& comm);

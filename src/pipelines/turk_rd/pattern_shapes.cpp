@@ -60,7 +60,7 @@ PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& c
   const auto all_neighbors = gather_to_root(comm, neighbor_ids);
   const auto all_borders = gather_to_root(comm, borders);
 
-  double result[4] = {0, 0, 0, 0};
+  double result[5] = {0, 0, 0, 0, 0};
   if (comm.is_root()) {
     const std::size_t n = all_ids.size();
     // Rows by cell id, so the count does not depend on the partition.
@@ -101,17 +101,22 @@ PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& c
           perimeter[labels[i]] += graph_borders[e];
     }
     std::vector<double> elongation;
+    double weighted_sum = 0, weight = 0;
     for (int r = 0; r < regions; ++r)
-      if (region_cells[r] >= 4)
+      if (region_cells[r] >= 4) {
         elongation.push_back(perimeter[r] * perimeter[r] / (4.0 * M_PI * region_area[r]));
+        weighted_sum += region_cells[r] * elongation.back();
+        weight += region_cells[r];
+      }
     std::sort(elongation.begin(), elongation.end());
     result[0] = regions;
     result[1] = regions ? double(std::count(above.begin(), above.end(), 1)) / regions : 0.0;
     result[2] = elongation.empty() ? 0.0 : elongation[elongation.size() / 2];
     result[3] = elongation.empty() ? 0.0 : elongation.back();
+    result[4] = weight > 0 ? weighted_sum / weight : 0.0;
   }
-  MPI_Bcast(result, 4, MPI_DOUBLE, 0, comm.raw);
-  return {int(result[0]), result[1], result[2], result[3]};
+  MPI_Bcast(result, 5, MPI_DOUBLE, 0, comm.raw);
+  return {int(result[0]), result[1], result[2], result[3], result[4]};
 }
 
 } // namespace texsim::pipelines::turk_rd

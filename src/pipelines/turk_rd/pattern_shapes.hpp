@@ -16,6 +16,9 @@ struct PatternShapes {
   double mean_cells = 0;         ///< cells per region
   double median_elongation = 0;  ///< over regions of at least 4 cells
   double max_elongation = 0;
+  /// Mean over regions of at least 4 cells weighted by their cell counts: the elongation of a
+  /// typical cell's region, not swayed by small fragments.
+  double weighted_elongation = 0;
 };
 
 /// Gathers the values at the owned cells to rank 0 and measures there; every rank gets the result.

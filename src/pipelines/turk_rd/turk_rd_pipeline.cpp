@@ -332,7 +332,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                            {"regions_above_mean", shapes.regions},
                                            {"cells_per_region", shapes.mean_cells},
                                            {"median_elongation", shapes.median_elongation},
-                                           {"max_elongation", shapes.max_elongation}};
+                                           {"max_elongation", shapes.max_elongation},
+                                           {"weighted_elongation", shapes.weighted_elongation}};
     }
     const auto shown_shapes = measure_pattern(comm, cells, stage_run.shown(earlier));
     stage_metrics[stage.name] = {{"steps", stage.steps},
