@@ -29,7 +29,7 @@ void FitzHughNagumoModel::coefficients(double /*t*/,
     a.linear[v] = -an * an;
     a.source[v] = an - bn;
     b.linear[v] = -s * parameters_.s1;
-    b.source[v] = s * (an - parameters_.s0 - beta_.at(vertices.ids[v]));
+    b.source[v] = s * (an - parameters_.s0 - substrate_at(beta_, vertices, v));
   }
 }
 

@@ -46,6 +46,8 @@ public:
                     const VertexData& vertices,
                     std::vector<SpeciesCoefficients>& out) const override;
 
+  const RandomSubstrate* random_substrate() const override { return &beta_; }
+
 private:
   FitzHughNagumoParameters parameters_;
   RandomSubstrate beta_;

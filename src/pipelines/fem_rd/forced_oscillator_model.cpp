@@ -12,7 +12,7 @@ std::vector<std::vector<double>>
 ForcedOscillatorModel::initial_state(const VertexData& vertices) const {
   std::vector<double> u(vertices.size());
   for (std::size_t v = 0; v < vertices.size(); ++v)
-    u[v] = parameters_.c + beta_.at(vertices.ids[v]);
+    u[v] = parameters_.c + substrate_at(beta_, vertices, v);
   return {std::move(u), std::vector<double>(vertices.size(), parameters_.d / parameters_.c)};
 }
 
@@ -32,7 +32,7 @@ void ForcedOscillatorModel::coefficients(double t,
     const double un = state[0][i];
     const double vn = state[1][i];
     u.linear[i] = forcing * un * vn - (d + 1.0);
-    u.source[i] = parameters_.c + beta_.at(vertices.ids[i]);
+    u.source[i] = parameters_.c + substrate_at(beta_, vertices, i);
     v.linear[i] = -un * un;
     v.source[i] = d * un;
   }

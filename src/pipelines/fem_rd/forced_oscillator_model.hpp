@@ -41,6 +41,8 @@ public:
                     const VertexData& vertices,
                     std::vector<SpeciesCoefficients>& out) const override;
 
+  const RandomSubstrate* random_substrate() const override { return &beta_; }
+
 private:
   ForcedOscillatorParameters parameters_;
   RandomSubstrate beta_;

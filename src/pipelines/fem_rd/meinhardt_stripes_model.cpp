@@ -33,7 +33,7 @@ void MeinhardtStripesModel::coefficients(double /*t*/,
   for (std::size_t v = 0; v < n; ++v) {
     const double g1 = state[0][v], g2 = state[1][v], r = std::max(state[2][v], kTinyInhibitor);
     const double s1 = state[3][v], s2 = state[4][v];
-    const double autocatalysis1 = p.c * s2 * g1 * g1 * substrate_.at(vertices.ids[v]);
+    const double autocatalysis1 = p.c * s2 * g1 * g1 * substrate_at(substrate_, vertices, v);
     const double autocatalysis2 = p.c * s1 * g2 * g2;
     out[0].linear[v] = -p.alpha;
     out[0].source[v] = autocatalysis1 / r + p.rho0;

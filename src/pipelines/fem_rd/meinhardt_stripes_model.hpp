@@ -44,6 +44,8 @@ public:
   /// Concentrations stay non-negative (r divides).
   double lower_bound(std::size_t) const override { return 0.0; }
 
+  const RandomSubstrate* random_substrate() const override { return &substrate_; }
+
 private:
   MeinhardtStripesParameters parameters_;
   RandomSubstrate substrate_;

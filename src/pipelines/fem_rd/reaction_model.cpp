@@ -18,6 +18,16 @@ void resize_coefficients(std::vector<SpeciesCoefficients>& out, std::size_t spec
   }
 }
 
+std::vector<double> ReactionModel::substrate(const VertexData& vertices) const {
+  const RandomSubstrate* random = random_substrate();
+  if (!random)
+    return {};
+  std::vector<double> values(vertices.size());
+  for (std::size_t v = 0; v < values.size(); ++v)
+    values[v] = random->at(vertices.ids[v]);
+  return values;
+}
+
 namespace {
 
 enum class ModelType {

@@ -7,6 +7,7 @@
 ///   (du/dt, v) = -(C0 C1 grad u, grad v) + (C2 u, v) + (C3, v),
 /// which also allows C0 = 0 (a species that does not diffuse, e.g. delta = 0 in Fig. 5 (a)).
 #include "core/config.hpp"
+#include "pipelines/fem_rd/random_substrate.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -22,6 +23,10 @@ namespace texsim::pipelines::fem_rd {
 struct VertexData {
   std::span<const std::int64_t> ids; ///< id of each local vertex in the input mesh
   std::span<const double> xyz;       ///< 3 coordinates per local vertex
+  /// The model's random substrate at each vertex when the caller precomputed it with
+  /// ReactionModel::substrate() (explicit solvers evaluate the same vertices every step); empty:
+  /// models draw it from the ids.
+  std::span<const double> substrate = {};
   std::size_t size() const { return ids.size(); }
 };
 
@@ -60,7 +65,20 @@ public:
 
   /// Whether coefficients() may run on several threads at once (on disjoint vertex blocks).
   virtual bool thread_safe() const { return true; }
+
+  /// The model's per-vertex random substrate (beta), if it has one.
+  virtual const RandomSubstrate* random_substrate() const { return nullptr; }
+
+  /// The substrate at every vertex, to pass back in VertexData::substrate; empty for models
+  /// without one.
+  std::vector<double> substrate(const VertexData& vertices) const;
 };
+
+/// Substrate value at vertex k: the precomputed one if present, else drawn from its id.
+inline double substrate_at(const RandomSubstrate& substrate, const VertexData& vertices,
+                           std::size_t k) {
+  return vertices.substrate.empty() ? substrate.at(vertices.ids[k]) : vertices.substrate[k];
+}
 
 /// Sizes `out` to `species` entries of `vertices` values each (used by every model's
 /// coefficients()).

@@ -24,7 +24,7 @@ void TuringSpotsModel::coefficients(double /*t*/, const std::vector<std::span<co
     a.linear[v] = -s * state[1][v];
     a.source[v] = 16.0 * s;
     b.linear[v] = s * (state[0][v] - 1.0);
-    b.source[v] = -s * beta_.at(vertices.ids[v]);
+    b.source[v] = -s * substrate_at(beta_, vertices, v);
   }
 }
 

@@ -33,6 +33,8 @@ public:
   /// Concentrations are clamped at zero, as in Turk 1991.
   double lower_bound(std::size_t) const override { return 0.0; }
 
+  const RandomSubstrate* random_substrate() const override { return &beta_; }
+
 private:
   TuringSpotsParameters parameters_;
   RandomSubstrate beta_;

@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace texsim::pipelines::turk_rd {
@@ -68,6 +69,7 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
   max_stable_dt_ = fastest > 0 && row_sum_max > 0 ? 1.0 / (fastest * row_sum_max)
                                                   : std::numeric_limits<double>::infinity();
 
+  substrate_ = model.substrate({ids_, xyz_});
   const auto initial = model.initial_state({ids_, xyz_});
   TEXSIM_VERIFY(initial.size() == names_.size(), "model gave " << initial.size()
                                                                << " initial fields for "
@@ -109,52 +111,77 @@ std::size_t CellRdSolver::frozen_count() const {
   return std::size_t(std::count(frozen_.begin(), frozen_.end(), 1));
 }
 
-void CellRdSolver::step(double t) {
-  const std::int32_t n = cells_.owned_count();
-  const std::size_t species = names_.size();
+template <int Species>
+void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t,
+                                std::vector<fem_rd::SpeciesCoefficients>& coefficients,
+                                std::vector<std::vector<double>>& block_state,
+                                std::vector<double>& laplacian) const {
+  const std::size_t species = Species > 0 ? std::size_t(Species) : names_.size();
   const auto current = current_->local();
   const auto next = next_->owned();
   const auto& stencil = cells_.neighbors();
-  const std::int32_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::span<const double>> block_spans(species);
+  for (std::size_t s = 0; s < species; ++s) {
+    for (std::int32_t k = 0; k < count; ++k)
+      block_state[s][k] = current[std::size_t(begin + k) * species + s];
+    block_spans[s] = std::span<const double>(block_state[s]).first(std::size_t(count));
+  }
+  const auto substrate = substrate_.empty()
+                             ? std::span<const double>()
+                             : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
+  model_.coefficients(t, block_spans,
+                      {std::span(ids_).subspan(std::size_t(begin), std::size_t(count)),
+                       std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count)),
+                       substrate},
+                      coefficients);
+  for (std::int32_t k = 0; k < count; ++k) {
+    const std::int32_t i = begin + k;
+    const double* own = &current[std::size_t(i) * species];
+    double* out = &next[std::size_t(i) * species];
+    if (frozen_[i]) {
+      std::copy(own, own + species, out);
+      continue;
+    }
+    // A fixed-size accumulator for the usual systems keeps it in registers.
+    std::array<double, (Species > 0 ? Species : 1)> in_registers{};
+    double* sum = Species > 0 ? in_registers.data() : laplacian.data();
+    std::fill(sum, sum + species, 0.0);
+    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
+      const double* other = &current[std::size_t(stencil.indices[e]) * species];
+      const double w = weights_[e];
+      for (std::size_t s = 0; s < species; ++s)
+        sum[s] += w * (other[s] - own[s]);
+    }
+    for (std::size_t s = 0; s < species; ++s) {
+      const double rate =
+          rates_[s] * sum[s] + coefficients[s].linear[k] * own[s] + coefficients[s].source[k];
+      out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
+    }
+  }
+}
 
+void CellRdSolver::step(double t) {
+  const std::int32_t n = cells_.owned_count();
+  const std::size_t species = names_.size();
+  const std::int32_t blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel if (model_.thread_safe())
   {
     std::vector<std::vector<double>> block_state(species, std::vector<double>(kBlock));
-    std::vector<std::span<const double>> block_spans(species);
     std::vector<fem_rd::SpeciesCoefficients> coefficients;
     std::vector<double> laplacian(species);
 #pragma omp for schedule(static)
     for (std::int32_t b = 0; b < blocks; ++b) {
       const std::int32_t begin = b * kBlock;
       const std::int32_t count = std::min(kBlock, n - begin);
-      for (std::size_t s = 0; s < species; ++s) {
-        for (std::int32_t k = 0; k < count; ++k)
-          block_state[s][k] = current[std::size_t(begin + k) * species + s];
-        block_spans[s] = std::span<const double>(block_state[s]).first(std::size_t(count));
-      }
-      model_.coefficients(t, block_spans,
-                          {std::span(ids_).subspan(begin, count),
-                           std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count))},
-                          coefficients);
-      for (std::int32_t k = 0; k < count; ++k) {
-        const std::int32_t i = begin + k;
-        const double* own = &current[std::size_t(i) * species];
-        double* out = &next[std::size_t(i) * species];
-        if (frozen_[i]) {
-          std::copy(own, own + species, out);
-          continue;
-        }
-        std::fill(laplacian.begin(), laplacian.end(), 0.0);
-        for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
-          const double* other = &current[std::size_t(stencil.indices[e]) * species];
-          for (std::size_t s = 0; s < species; ++s)
-            laplacian[s] += weights_[e] * (other[s] - own[s]);
-        }
-        for (std::size_t s = 0; s < species; ++s) {
-          const double rate = rates_[s] * laplacian[s] + coefficients[s].linear[k] * own[s] +
-                              coefficients[s].source[k];
-          out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
-        }
+      switch (species) {
+      case 2:
+        update_block<2>(begin, count, t, coefficients, block_state, laplacian);
+        break;
+      case 5:
+        update_block<5>(begin, count, t, coefficients, block_state, laplacian);
+        break;
+      default:
+        update_block<0>(begin, count, t, coefficients, block_state, laplacian);
       }
     }
   }

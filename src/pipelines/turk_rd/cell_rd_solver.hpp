@@ -54,6 +54,14 @@ public:
   double integral(std::size_t s) const;
 
 private:
+  /// Cell updates of cells [begin, begin + count): the stencil and the reaction. `Species` > 0
+  /// fixes the species count at compile time (the common systems), 0 reads it at run time.
+  template <int Species>
+  void update_block(std::int32_t begin, std::int32_t count, double t,
+                    std::vector<fem_rd::SpeciesCoefficients>& coefficients,
+                    std::vector<std::vector<double>>& block_state,
+                    std::vector<double>& laplacian) const;
+
   const par::Comm& comm_;
   const geom::SurfaceCells& cells_;
   const fem_rd::ReactionModel& model_;
@@ -65,6 +73,7 @@ private:
   std::vector<double> weights_;      ///< (abar / A_i) f_ij w_ij, parallel to the stencil CSR
   std::vector<std::int64_t> ids_;    ///< owned cell ids (random substrate keys)
   std::vector<double> xyz_;          ///< owned cell centres
+  std::vector<double> substrate_;    ///< the model's random substrate per owned cell (or empty)
   std::vector<char> frozen_;
   std::unique_ptr<par::GhostedVector> current_, next_;
 };
