@@ -2,9 +2,9 @@
 
 #include "core/error.hpp"
 #include "pipelines/fem_rd/fem_rd_pipeline.hpp"
-#include "pipelines/turk_rd/turk_rd_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 #include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
+#include "pipelines/turk_rd/turk_rd_pipeline.hpp"
 
 #include <functional>
 #include <utility>

@@ -2,7 +2,8 @@
 
 namespace texsim::geom {
 
-std::vector<std::int32_t> label_regions(const CsrAdjacency& neighbors, std::span<const char> marked) {
+std::vector<std::int32_t> label_regions(const CsrAdjacency& neighbors,
+                                        std::span<const char> marked) {
   std::vector<std::int32_t> label(marked.size(), -1);
   std::vector<std::int32_t> stack;
   std::int32_t regions = 0;

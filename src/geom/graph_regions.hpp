@@ -11,6 +11,7 @@ namespace texsim::geom {
 
 /// label[i] = region index (0, 1, ... in order of each region's smallest node) for marked nodes,
 /// -1 for the others. `neighbors` is symmetric. Serial.
-std::vector<std::int32_t> label_regions(const CsrAdjacency& neighbors, std::span<const char> marked);
+std::vector<std::int32_t> label_regions(const CsrAdjacency& neighbors,
+                                        std::span<const char> marked);
 
 } // namespace texsim::geom

@@ -63,10 +63,9 @@ SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
   TEXSIM_VERIFY(settings.count > 0, "SurfaceCells needs at least one cell");
   surface_area_ = total_area(mesh);
   spacing_ = std::sqrt(surface_area_ / double(settings.count));
-  number_along_morton_curve(
-      comm, mesh,
-      relaxed_surface_points(comm, mesh, topology, settings.count, seed, settings.relaxation,
-                             &relaxation_));
+  number_along_morton_curve(comm, mesh,
+                            relaxed_surface_points(comm, mesh, topology, settings.count, seed,
+                                                   settings.relaxation, &relaxation_));
   rank_offsets_ = offsets_of_ranks(comm, owned_count());
   owned_begin_ = rank_offsets_[comm.rank];
   build_view(comm, mesh, settings.halo_spacings * spacing_);
@@ -97,8 +96,8 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Triang
   MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
   std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
   std::vector<Keyed> all(std::size_t(offsets.back() + counts.back()) / sizeof(Keyed));
-  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
-                 MPI_BYTE, comm.raw);
+  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                 comm.raw);
   std::sort(all.begin(), all.end(), [](const Keyed& a, const Keyed& b) {
     return std::tie(a.key, a.point_id) < std::tie(b.key, b.point_id);
   });
@@ -171,10 +170,8 @@ void SurfaceCells::reduce_pieces(const par::Comm& comm) {
     areas_out[view_owners_[piece.seed]].push_back({cell, piece.triangle, piece.area});
     for (const auto& [other_seed, length] : piece.borders) {
       const std::int64_t other = view_ids_[other_seed];
-      borders_out[view_owners_[piece.seed]].push_back(
-          {cell, other, piece.triangle, cell, length});
-      borders_out[view_owners_[other_seed]].push_back(
-          {other, cell, piece.triangle, cell, length});
+      borders_out[view_owners_[piece.seed]].push_back({cell, other, piece.triangle, cell, length});
+      borders_out[view_owners_[other_seed]].push_back({other, cell, piece.triangle, cell, length});
     }
   }
   auto areas_in = par::exchange_records(comm, areas_out);

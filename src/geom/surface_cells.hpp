@@ -26,15 +26,15 @@
 namespace texsim::geom {
 
 struct SurfaceCellsSettings {
-  std::int64_t count = 10000;     ///< number of cells n
-  RelaxationSettings relaxation;  ///< Turk's repulsion sweeps
-  double halo_spacings = 6.0;     ///< halo width around a rank's triangles, in cell spacings
+  std::int64_t count = 10000;    ///< number of cells n
+  RelaxationSettings relaxation; ///< Turk's repulsion sweeps
+  double halo_spacings = 6.0;    ///< halo width around a rank's triangles, in cell spacings
 };
 
 /// How the cells are split across ranks.
 struct CellPartitionQuality {
-  std::int64_t edge_cut = 0; ///< neighbour pairs with the two cells on different ranks
-  double imbalance = 1.0;    ///< largest owned count over the mean
+  std::int64_t edge_cut = 0;   ///< neighbour pairs with the two cells on different ranks
+  double imbalance = 1.0;      ///< largest owned count over the mean
   std::int64_t ghosts_max = 0; ///< most stencil ghosts on one rank
 };
 

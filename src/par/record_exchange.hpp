@@ -43,8 +43,7 @@ std::vector<Record> exchange_records(const Comm& comm,
                 "exchange_records: more than 2 GiB to receive on one rank");
   std::vector<Record> received(total / sizeof(Record));
   MPI_Alltoallv(send_bytes.data(), send_counts.data(), send_offsets.data(), MPI_BYTE,
-                received.data(), receive_counts.data(), receive_offsets.data(), MPI_BYTE,
-                comm.raw);
+                received.data(), receive_counts.data(), receive_offsets.data(), MPI_BYTE, comm.raw);
   return received;
 }
 

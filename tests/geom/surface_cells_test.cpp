@@ -33,9 +33,8 @@ std::map<std::pair<std::int64_t, std::int64_t>, double> all_couplings(const par:
   for (std::int32_t i = 0; i < cells.owned_count(); ++i)
     for (auto e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
       const std::int32_t j = stencil.indices[e];
-      const std::int64_t other = j < cells.owned_count()
-                                     ? cells.ids()[j]
-                                     : cells.ghost_ids()[j - cells.owned_count()];
+      const std::int64_t other =
+          j < cells.owned_count() ? cells.ids()[j] : cells.ghost_ids()[j - cells.owned_count()];
       triples.insert(triples.end(), {double(cells.ids()[i]), double(other), cells.couplings()[e]});
     }
   int count = int(triples.size());

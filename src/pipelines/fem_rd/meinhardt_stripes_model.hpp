@@ -20,14 +20,14 @@ namespace texsim::pipelines::fem_rd {
 /// Defaults: the constants of Turk's stripe program (alpha 0.04, beta 0.06, gamma 0.04,
 /// D_g 0.009, D_s 0.2, c 0.01, substrate 1 +/- 0.005).
 struct MeinhardtStripesParameters {
-  double c = 0.01;                ///< autocatalysis rate
-  double alpha = 0.04;            ///< activator decay
-  double beta = 0.06;             ///< inhibitor decay
-  double gamma = 0.04;            ///< equilibration rate of s1, s2
-  double rho0 = 0.0;              ///< basic activator production
-  double rho1 = 0.0;              ///< basic production of s1, s2
-  double diffusion_g = 0.009;     ///< D_g
-  double diffusion_s = 0.2;       ///< D_s
+  double c = 0.01;                 ///< autocatalysis rate
+  double alpha = 0.04;             ///< activator decay
+  double beta = 0.06;              ///< inhibitor decay
+  double gamma = 0.04;             ///< equilibration rate of s1, s2
+  double rho0 = 0.0;               ///< basic activator production
+  double rho1 = 0.0;               ///< basic production of s1, s2
+  double diffusion_g = 0.009;      ///< D_g
+  double diffusion_s = 0.2;        ///< D_s
   double substrate_spread = 0.005; ///< the substrate is uniform in 1 +/- spread
 };
 

@@ -16,7 +16,8 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
       names_(model.species()) {
   mass_ = assembler_.create_matrix(comm);
   for (std::size_t s = 0; s < names_.size(); ++s) {
-    fields_.push_back(std::make_unique<par::GhostedVector>(comm, mesh.owned_count(), mesh.ghosts()));
+    fields_.push_back(
+        std::make_unique<par::GhostedVector>(comm, mesh.owned_count(), mesh.ghosts()));
     solvers_.push_back(
         std::make_unique<par::CgSolver>(comm, options.rtol, par::Preconditioner::kJacobi));
     systems_.push_back(assembler_.create_matrix(comm));

@@ -12,8 +12,8 @@
 namespace texsim::pipelines::turk_rd {
 
 struct CascadeState {
-  std::size_t stage = 0;          ///< index of the running stage
-  std::int64_t stage_step = 0;    ///< steps done in it
+  std::size_t stage = 0;       ///< index of the running stage
+  std::int64_t stage_step = 0; ///< steps done in it
   /// "<stage>_<species>" of finished stages and "<species>" of the running one -> owned values.
   std::map<std::string, std::vector<double>> fields;
 };

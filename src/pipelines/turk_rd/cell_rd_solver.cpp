@@ -126,9 +126,9 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
       block_state[s][k] = current[std::size_t(begin + k) * species + s];
     block_spans[s] = std::span<const double>(block_state[s]).first(std::size_t(count));
   }
-  const auto substrate = substrate_.empty()
-                             ? std::span<const double>()
-                             : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
+  const auto substrate =
+      substrate_.empty() ? std::span<const double>()
+                         : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
   model_.coefficients(t, block_spans,
                       {std::span(ids_).subspan(std::size_t(begin), std::size_t(count)),
                        std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count)),

@@ -38,15 +38,16 @@ std::vector<char> select_initiator_cells(const par::Comm& comm, const geom::Surf
     std::vector<double> xyz;
     for (const auto& p : cells.points())
       xyz.insert(xyz.end(), p.position.data(), p.position.data() + 3);
-    const auto value = CellExpression(initiator.region, {}, initiator.key_path + ".region")
-                           .evaluate(xyz, {});
+    const auto value =
+        CellExpression(initiator.region, {}, initiator.key_path + ".region").evaluate(xyz, {});
     for (std::int32_t i = 0; i < n; ++i)
       selected[i] = value[i] != 0.0;
   }
   std::int64_t local = std::count(selected.begin(), selected.end(), 1), total = 0;
   MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, comm.raw);
   if (total == 0)
-    throw InputError(initiator.key_path + ": selects no cell (the region is empty on this surface)");
+    throw InputError(initiator.key_path +
+                     ": selects no cell (the region is empty on this surface)");
   return selected;
 }
 

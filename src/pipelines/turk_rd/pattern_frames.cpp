@@ -1,11 +1,11 @@
 #include "pipelines/turk_rd/pattern_frames.hpp"
 
+#include "core/error.hpp"
 #include "geom/bump_map.hpp"
 #include "geom/loop_subdivision.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/point_halo.hpp"
 #include "io/parallel_surface_writer.hpp"
-#include "core/error.hpp"
 #include "par/collective.hpp"
 #include "par/morton_partition.hpp"
 
@@ -35,9 +35,9 @@ std::unique_ptr<io::PvdSeries> open_series(const par::Comm& comm, const std::fil
 /// This rank's share of the render mesh: the triangles it writes plus the ring of triangles
 /// around them (so normals at the piece's border see all their triangles), with local vertices.
 struct PatternFrames::RenderPiece {
-  geom::TriangleMesh mesh;            ///< written triangles first, then the surrounding ring
-  std::size_t written_triangles = 0;  ///< how many of mesh.triangles are written
-  std::vector<std::int32_t> written_vertices; ///< local vertices of the written triangles
+  geom::TriangleMesh mesh;           ///< written triangles first, then the surrounding ring
+  std::size_t written_triangles = 0; ///< how many of mesh.triangles are written
+  std::vector<std::int32_t> written_vertices;     ///< local vertices of the written triangles
   std::vector<std::int64_t> written_connectivity; ///< 3 indices into written_vertices each
 };
 
@@ -111,10 +111,10 @@ PatternFrames::PatternFrames(const par::Comm& comm, const geom::TriangleMesh& in
   std::vector<geom::Vec3> owned_positions;
   for (const auto& p : cells.points())
     owned_positions.push_back(p.position);
-  const geom::Box3 needed = piece_->mesh.positions.empty()
-                                ? geom::Box3::around({})
-                                : geom::Box3::around(piece_->mesh.positions)
-                                      .expanded(radius + 2.0 * cells.spacing());
+  const geom::Box3 needed =
+      piece_->mesh.positions.empty()
+          ? geom::Box3::around({})
+          : geom::Box3::around(piece_->mesh.positions).expanded(radius + 2.0 * cells.spacing());
   const auto nearby = geom::exchange_point_halo(comm, cells.ids(), owned_positions, needed);
   std::vector<geom::Vec3> sample_positions = owned_positions;
   std::vector<std::int64_t> sample_ids(cells.ids().begin(), cells.ids().end());
@@ -211,9 +211,8 @@ void PatternFrames::write_surface(const std::string& name, double time,
     bumped.point_fields.push_back({"pattern", 1, values});
     bumped.point_fields.push_back({"color", 3, rgb});
     bumped.point_fields.push_back({"Normals", 3, bumped_normals});
-    const auto bump_file = io::write_parallel_surface(comm_, output_dir_ / "frames",
-                                                      "bump_" + name, bumped,
-                                                      io::SurfaceFormat::vtp);
+    const auto bump_file = io::write_parallel_surface(comm_, output_dir_ / "frames", "bump_" + name,
+                                                      bumped, io::SurfaceFormat::vtp);
     bump_series_->add(time, std::filesystem::relative(bump_file, output_dir_).string());
   }
 }

@@ -12,8 +12,12 @@ namespace texsim::pipelines::turk_rd {
 namespace {
 
 template <typename T> MPI_Datatype mpi_type();
-template <> MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
-template <> MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
+template <> MPI_Datatype mpi_type<double>() {
+  return MPI_DOUBLE;
+}
+template <> MPI_Datatype mpi_type<std::int64_t>() {
+  return MPI_INT64_T;
+}
 
 /// Concatenation of every rank's `local` on rank 0 (in rank order). Collective.
 template <typename T>

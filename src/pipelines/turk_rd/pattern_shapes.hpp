@@ -12,9 +12,9 @@
 namespace texsim::pipelines::turk_rd {
 
 struct PatternShapes {
-  int regions = 0;               ///< connected regions above the mean
-  double mean_cells = 0;         ///< cells per region
-  double median_elongation = 0;  ///< over regions of at least 4 cells
+  int regions = 0;              ///< connected regions above the mean
+  double mean_cells = 0;        ///< cells per region
+  double median_elongation = 0; ///< over regions of at least 4 cells
   double max_elongation = 0;
   /// Mean over regions of at least 4 cells weighted by their cell counts: the elongation of a
   /// typical cell's region, not swayed by small fragments.

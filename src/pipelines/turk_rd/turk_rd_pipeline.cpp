@@ -44,8 +44,8 @@ std::vector<double> diffusion_scale(const par::Comm& comm, const TurkRdSettings&
   std::vector<double> scale;
   par::run_collectively(comm, [&] {
     const auto xyz = owned_xyz(cells);
-    scale = CellExpression(settings.diffusion_scale, {}, "turk_rd.diffusion_scale")
-                .evaluate(xyz, {});
+    scale =
+        CellExpression(settings.diffusion_scale, {}, "turk_rd.diffusion_scale").evaluate(xyz, {});
     for (std::size_t i = 0; i < scale.size(); ++i)
       if (!(scale[i] > 0.0) || !std::isfinite(scale[i]))
         throw InputError(log::cat("turk_rd.diffusion_scale: expected a positive value at every "
@@ -82,8 +82,9 @@ void check_finite(const par::Comm& comm, const StageSettings& stage, std::int64_
       bad |= !std::isfinite(v);
   MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, comm.raw);
   if (bad)
-    throw InputError(log::cat(stage.key_path, ".dt: the explicit step diverged (non-finite values "
-                                              "after step ",
+    throw InputError(log::cat(stage.key_path,
+                              ".dt: the explicit step diverged (non-finite values "
+                              "after step ",
                               step, " of stage '", stage.name, "'); use a smaller dt than ",
                               stage.dt));
 }
@@ -189,8 +190,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
   std::unique_ptr<geom::SurfaceCells> cells_owner;
   {
     auto stage = ctx.timers.scope("retiling");
-    cells_owner = std::make_unique<geom::SurfaceCells>(comm, surface, topology, run.seed,
-                                                      settings_.cells);
+    cells_owner =
+        std::make_unique<geom::SurfaceCells>(comm, surface, topology, run.seed, settings_.cells);
   }
   const auto& cells = *cells_owner;
   {
@@ -246,8 +247,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
         log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
       const auto stage_index = std::size_t(found.reader.attribute_int64("stage"));
       if (stage_index >= stages.size())
-        throw InputError(found.reader.path().string() + ": stage " +
-                         std::to_string(stage_index) + " of a cascade with more stages");
+        throw InputError(found.reader.path().string() + ": stage " + std::to_string(stage_index) +
+                         " of a cascade with more stages");
       auto fields = earlier_stage_names(stages, stage_index);
       fields.insert(fields.end(), stages[stage_index].species.begin(),
                     stages[stage_index].species.end());
@@ -256,8 +257,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
       log::info(log::cat("restarted from ", found.reader.path().string(), " in stage '",
                          stages[state.stage].name, "' after ", state.stage_step, " steps"));
     }
-    frames = std::make_unique<PatternFrames>(comm, surface, cells, settings_.render,
-                                             run.output_dir, restart_time);
+    frames = std::make_unique<PatternFrames>(comm, surface, cells, settings_.render, run.output_dir,
+                                             restart_time);
   }
 
   FieldMap earlier; // "<stage>_<species>" of finished stages
@@ -274,11 +275,14 @@ void TurkRdPipeline::run(RunContext& ctx) {
     const auto& stage = stages[k];
     const bool fresh = !(run.restart && k == state.stage);
     const std::int64_t first_step = fresh ? 0 : state.stage_step;
-    StageRun stage_run(comm, cells, stage, earlier_stage_names(stages, k), [&] {
-      FieldMap all = carried;
-      all.insert(earlier.begin(), earlier.end());
-      return all;
-    }(), scale, fresh);
+    StageRun stage_run(
+        comm, cells, stage, earlier_stage_names(stages, k),
+        [&] {
+          FieldMap all = carried;
+          all.insert(earlier.begin(), earlier.end());
+          return all;
+        }(),
+        scale, fresh);
     auto& solver = stage_run.solver();
     std::vector<double> initial_integral;
     for (std::size_t s = 0; s < solver.species_count(); ++s)
@@ -295,8 +299,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
       check_finite(comm, stage, stage_step, species);
       const auto shown = stage_run.shown(earlier);
       frames->write(stage_begin[k] + stage_step,
-                    {stage_time[k] + double(stage_step) * stage.dt, shown, stage.species,
-                     species});
+                    {stage_time[k] + double(stage_step) * stage.dt, shown, stage.species, species});
     };
     if (k == 0 && fresh)
       write_frame(0);

@@ -124,8 +124,8 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
         entry.fail("active", "no `active` on the first stage (there is no earlier pattern)");
       CellExpression(stage.active, earlier, entry.key_path("active"));
     }
-    stage.active_start_initial = entry.choice<bool>("active_start", false,
-                                                    {{"carried", false}, {"initial", true}});
+    stage.active_start_initial =
+        entry.choice<bool>("active_start", false, {{"carried", false}, {"initial", true}});
     stage.show = entry.get<std::string>("show", stage.species.front());
     auto show_names = stage.species;
     show_names.insert(show_names.end(), earlier.begin(), earlier.end());
