@@ -45,7 +45,7 @@ AabbTree::~AabbTree() = default;
 AabbTree::AabbTree(AabbTree&&) noexcept = default;
 AabbTree& AabbTree::operator=(AabbTree&&) noexcept = default;
 
-SurfacePoint AabbTree::closest_point(const Vec3& query) const {
+ClosestPoint AabbTree::closest_point(const Vec3& query) const {
   const auto [point, primitive] = impl_->tree.closest_point_and_primitive(to_cgal(query));
   const Vec3 p(point.x(), point.y(), point.z());
   return {p, static_cast<std::int32_t>(primitive - impl_->triangles.cbegin()), (p - query).norm()};

@@ -8,7 +8,7 @@
 namespace texsim::geom {
 
 /// Closest point of the surface to a query, and the triangle holding it.
-struct SurfacePoint {
+struct ClosestPoint {
   Vec3 point;            ///< on the surface, model units
   std::int32_t triangle; ///< index into the mesh's triangles
   double distance;       ///< from the query to `point`, model units
@@ -26,7 +26,7 @@ public:
   AabbTree& operator=(AabbTree&&) noexcept;
 
   /// The point of the surface nearest to `query`.
-  SurfacePoint closest_point(const Vec3& query) const;
+  ClosestPoint closest_point(const Vec3& query) const;
 
 private:
   struct Impl;

@@ -136,14 +136,23 @@ void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, d
     centroids[t] = {c.x(), c.y(), c.z()};
   }
   const auto part = par::morton_partition(centroids, comm.size);
-  std::vector<Vec3> corners;
   for (std::size_t t = 0; t < part.size(); ++t)
-    if (part[t] == comm.rank) {
+    if (part[t] == comm.rank)
       triangles_.push_back(std::int32_t(t));
-      for (const auto v : mesh.triangles[t])
-        corners.push_back(mesh.positions[v]);
+  // The halo: other ranks' cells within `halo` of this rank's triangles. Every point of a
+  // triangle lies within its longest edge of a corner, so boxes around the corners grown by
+  // halo + longest edge cover the triangles closely (one box per occupied grid cell).
+  std::vector<Vec3> corners;
+  double longest_edge = 0;
+  for (const auto t : triangles_)
+    for (int c = 0; c < 3; ++c) {
+      const auto& tri = mesh.triangles[t];
+      corners.push_back(mesh.positions[tri[c]]);
+      longest_edge = std::max(
+          longest_edge, (mesh.positions[tri[c]] - mesh.positions[tri[(c + 1) % 3]]).norm());
     }
-  const Box3 needed = corners.empty() ? Box3::around({}) : Box3::around(corners).expanded(halo);
+  const double reach = halo + longest_edge;
+  const auto needed = covering_boxes(corners, 3.0 * reach, reach);
   const auto owned_positions = positions_of(points_);
   const auto halo_points = exchange_point_halo(comm, ids_, owned_positions, needed);
 
@@ -203,10 +212,9 @@ void SurfaceCells::build_stencil(const par::Comm& comm) {
   // Neighbours lie within a few spacings: the halo around the owned cells supplies the ghosts'
   // positions and block indices.
   const auto owned_positions = positions_of(points_);
-  const Box3 around_owned = owned_positions.empty()
-                                ? Box3::around({})
-                                : Box3::around(owned_positions).expanded(6.0 * spacing_);
-  const auto nearby = exchange_point_halo(comm, ids_, owned_positions, around_owned);
+  const double reach = 6.0 * spacing_;
+  const auto nearby = exchange_point_halo(comm, ids_, owned_positions,
+                                          covering_boxes(owned_positions, 3.0 * reach, reach));
   const auto find_nearby = [&](std::int64_t id) -> const HaloPoint& {
     const auto it = std::lower_bound(nearby.begin(), nearby.end(), id,
                                      [](const HaloPoint& h, std::int64_t v) { return h.id < v; });

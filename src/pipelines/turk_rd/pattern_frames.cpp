@@ -111,10 +111,10 @@ PatternFrames::PatternFrames(const par::Comm& comm, const geom::TriangleMesh& in
   std::vector<geom::Vec3> owned_positions;
   for (const auto& p : cells.points())
     owned_positions.push_back(p.position);
-  const geom::Box3 needed =
-      piece_->mesh.positions.empty()
-          ? geom::Box3::around({})
-          : geom::Box3::around(piece_->mesh.positions).expanded(radius + 2.0 * cells.spacing());
+  // The targets are the piece's vertices: boxes around them grown by the radius (and two
+  // spacings, for the nearest-cell fallback) hold every cell a target can use.
+  const double reach = radius + 2.0 * cells.spacing();
+  const auto needed = geom::covering_boxes(piece_->mesh.positions, 3.0 * reach, reach);
   const auto nearby = geom::exchange_point_halo(comm, cells.ids(), owned_positions, needed);
   std::vector<geom::Vec3> sample_positions = owned_positions;
   std::vector<std::int64_t> sample_ids(cells.ids().begin(), cells.ids().end());
