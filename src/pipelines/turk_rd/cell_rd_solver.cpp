@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 
 #include <mpi.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -70,6 +71,12 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
                                                   : std::numeric_limits<double>::infinity();
 
   substrate_ = model.substrate({ids_, xyz_});
+  scratch_.resize(std::size_t(omp_get_max_threads()));
+  for (auto& scratch : scratch_) {
+    scratch.state.assign(std::size_t(species), std::vector<double>(kBlock));
+    scratch.state_spans.resize(std::size_t(species));
+    scratch.laplacian.resize(std::size_t(species));
+  }
   const auto initial = model.initial_state({ids_, xyz_});
   TEXSIM_VERIFY(initial.size() == names_.size(), "model gave " << initial.size()
                                                                << " initial fields for "
@@ -113,23 +120,21 @@ std::size_t CellRdSolver::frozen_count() const {
 
 template <int Species>
 void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t,
-                                std::vector<fem_rd::SpeciesCoefficients>& coefficients,
-                                std::vector<std::vector<double>>& block_state,
-                                std::vector<double>& laplacian) const {
+                                BlockScratch& scratch) const {
   const std::size_t species = Species > 0 ? std::size_t(Species) : names_.size();
   const auto current = current_->local();
   const auto next = next_->owned();
   const auto& stencil = cells_.neighbors();
-  std::vector<std::span<const double>> block_spans(species);
+  auto& coefficients = scratch.coefficients;
   for (std::size_t s = 0; s < species; ++s) {
     for (std::int32_t k = 0; k < count; ++k)
-      block_state[s][k] = current[std::size_t(begin + k) * species + s];
-    block_spans[s] = std::span<const double>(block_state[s]).first(std::size_t(count));
+      scratch.state[s][k] = current[std::size_t(begin + k) * species + s];
+    scratch.state_spans[s] = std::span<const double>(scratch.state[s]).first(std::size_t(count));
   }
   const auto substrate =
       substrate_.empty() ? std::span<const double>()
                          : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
-  model_.coefficients(t, block_spans,
+  model_.coefficients(t, scratch.state_spans,
                       {std::span(ids_).subspan(std::size_t(begin), std::size_t(count)),
                        std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count)),
                        substrate},
@@ -144,7 +149,7 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
     }
     // A fixed-size accumulator for the usual systems keeps it in registers.
     std::array<double, (Species > 0 ? Species : 1)> in_registers{};
-    double* sum = Species > 0 ? in_registers.data() : laplacian.data();
+    double* sum = Species > 0 ? in_registers.data() : scratch.laplacian.data();
     std::fill(sum, sum + species, 0.0);
     for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
       const double* other = &current[std::size_t(stencil.indices[e]) * species];
@@ -166,22 +171,20 @@ void CellRdSolver::step(double t) {
   const std::int32_t blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel if (model_.thread_safe())
   {
-    std::vector<std::vector<double>> block_state(species, std::vector<double>(kBlock));
-    std::vector<fem_rd::SpeciesCoefficients> coefficients;
-    std::vector<double> laplacian(species);
+    BlockScratch& scratch = scratch_[std::size_t(omp_get_thread_num())];
 #pragma omp for schedule(static)
     for (std::int32_t b = 0; b < blocks; ++b) {
       const std::int32_t begin = b * kBlock;
       const std::int32_t count = std::min(kBlock, n - begin);
       switch (species) {
       case 2:
-        update_block<2>(begin, count, t, coefficients, block_state, laplacian);
+        update_block<2>(begin, count, t, scratch);
         break;
       case 5:
-        update_block<5>(begin, count, t, coefficients, block_state, laplacian);
+        update_block<5>(begin, count, t, scratch);
         break;
       default:
-        update_block<0>(begin, count, t, coefficients, block_state, laplacian);
+        update_block<0>(begin, count, t, scratch);
       }
     }
   }

@@ -56,11 +56,16 @@ public:
 private:
   /// Cell updates of cells [begin, begin + count): the stencil and the reaction. `Species` > 0
   /// fixes the species count at compile time (the common systems), 0 reads it at run time.
+  /// One thread's buffers for a block, kept across steps (no allocation per step).
+  struct BlockScratch {
+    std::vector<std::vector<double>> state;           ///< [species][cell of the block]
+    std::vector<std::span<const double>> state_spans; ///< views of `state` for the model
+    std::vector<fem_rd::SpeciesCoefficients> coefficients;
+    std::vector<double> laplacian; ///< for run-time species counts
+  };
   template <int Species>
   void update_block(std::int32_t begin, std::int32_t count, double t,
-                    std::vector<fem_rd::SpeciesCoefficients>& coefficients,
-                    std::vector<std::vector<double>>& block_state,
-                    std::vector<double>& laplacian) const;
+                    BlockScratch& scratch) const;
 
   const par::Comm& comm_;
   const geom::SurfaceCells& cells_;
@@ -76,6 +81,7 @@ private:
   std::vector<double> substrate_;    ///< the model's random substrate per owned cell (or empty)
   std::vector<char> frozen_;
   std::unique_ptr<par::GhostedVector> current_, next_;
+  std::vector<BlockScratch> scratch_; ///< one per OpenMP thread
 };
 
 } // namespace texsim::pipelines::turk_rd
