@@ -97,5 +97,43 @@ TEST(CellRdSolver, SpotSystemIsBitIdenticalOnAnyRankCount) {
   EXPECT_GT(*hi, 4.1);
 }
 
+/// Turing's spot system seen only through the ReactionModel interface, so the solver cannot fuse
+/// it into its stencil loop and takes the general path.
+class OpaqueModel final : public fem_rd::ReactionModel {
+public:
+  explicit OpaqueModel(const fem_rd::ReactionModel& inner) : inner_(inner) {}
+  std::vector<std::string> species() const override { return inner_.species(); }
+  std::vector<std::vector<double>> initial_state(const fem_rd::VertexData& v) const override {
+    return inner_.initial_state(v);
+  }
+  void coefficients(double t, const std::vector<std::span<const double>>& state,
+                    const fem_rd::VertexData& vertices,
+                    std::vector<fem_rd::SpeciesCoefficients>& out) const override {
+    inner_.coefficients(t, state, vertices, out);
+  }
+  double lower_bound(std::size_t s) const override { return inner_.lower_bound(s); }
+
+private:
+  const fem_rd::ReactionModel& inner_;
+};
+
+TEST(CellRdSolver, FusedSpotKernelEqualsTheGeneralPath) {
+  const par::Comm comm = par::world();
+  const auto cells = make_cells(comm, geom::icosphere(3), 1200);
+  const auto spots = model_from("type: turing_spots\ns: 0.05\n");
+  const OpaqueModel opaque(*spots);
+  const std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
+  CellRdSolver fused(comm, cells, *spots, scale, 1.0);
+  CellRdSolver general(comm, cells, opaque, scale, 1.0);
+  for (int n = 0; n < 200; ++n) {
+    fused.step(n);
+    general.step(n);
+  }
+  for (std::size_t s = 0; s < 2; ++s) {
+    const auto a = fused.owned_values(s), b = general.owned_values(s);
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "species " << s;
+  }
+}
+
 } // namespace
 } // namespace texsim::pipelines::turk_rd

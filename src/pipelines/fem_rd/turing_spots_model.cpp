@@ -15,16 +15,17 @@ void TuringSpotsModel::coefficients(double /*t*/, const std::vector<std::span<co
                                     std::vector<SpeciesCoefficients>& out) const {
   const std::size_t n = vertices.size();
   resize_coefficients(out, 2, n);
-  const double s = parameters_.s;
   auto& a = out[0];
   auto& b = out[1];
   a.diffusion = parameters_.diffusion_a;
   b.diffusion = parameters_.diffusion_b;
   for (std::size_t v = 0; v < n; ++v) {
-    a.linear[v] = -s * state[1][v];
-    a.source[v] = 16.0 * s;
-    b.linear[v] = s * (state[0][v] - 1.0);
-    b.source[v] = -s * substrate_at(beta_, vertices, v);
+    double linear[2], source[2];
+    vertex_coefficients(state[0][v], state[1][v], substrate_at(beta_, vertices, v), linear, source);
+    a.linear[v] = linear[0];
+    a.source[v] = source[0];
+    b.linear[v] = linear[1];
+    b.source[v] = source[1];
   }
 }
 

@@ -30,6 +30,17 @@ public:
   void coefficients(double t, const std::vector<std::span<const double>>& state,
                     const VertexData& vertices,
                     std::vector<SpeciesCoefficients>& out) const override;
+  /// C2 and C3 of a and b at one vertex from its a, b and beta: the split coefficients() writes,
+  /// for explicit kernels that go one vertex at a time.
+  void vertex_coefficients(double a, double b, double beta, double linear[2],
+                           double source[2]) const {
+    const double s = parameters_.s;
+    linear[0] = -s * b;
+    source[0] = 16.0 * s;
+    linear[1] = s * (a - 1.0);
+    source[1] = -s * beta;
+  }
+
   /// Concentrations are clamped at zero, as in Turk 1991.
   double lower_bound(std::size_t) const override { return 0.0; }
 

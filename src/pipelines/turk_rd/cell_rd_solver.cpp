@@ -1,6 +1,7 @@
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
 
 #include "core/error.hpp"
+#include "pipelines/fem_rd/turing_spots_model.hpp"
 
 #include <mpi.h>
 #include <omp.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <type_traits>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
@@ -71,6 +73,7 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
                                                   : std::numeric_limits<double>::infinity();
 
   substrate_ = model.substrate({ids_, xyz_});
+  turing_spots_ = dynamic_cast<const fem_rd::TuringSpotsModel*>(&model);
   scratch_.resize(std::size_t(omp_get_max_threads()));
   for (auto& scratch : scratch_) {
     scratch.state.assign(std::size_t(species), std::vector<double>(kBlock));
@@ -118,27 +121,17 @@ std::size_t CellRdSolver::frozen_count() const {
   return std::size_t(std::count(frozen_.begin(), frozen_.end(), 1));
 }
 
-template <int Species>
+template <int Species, typename Pointwise>
 void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t,
-                                BlockScratch& scratch) const {
+                                BlockScratch& scratch, const Pointwise* pointwise) const {
+  constexpr bool kPointwise = !std::is_void_v<Pointwise>;
   const std::size_t species = Species > 0 ? std::size_t(Species) : names_.size();
   const auto current = current_->local();
   const auto next = next_->owned();
   const auto& stencil = cells_.neighbors();
   auto& coefficients = scratch.coefficients;
-  for (std::size_t s = 0; s < species; ++s) {
-    for (std::int32_t k = 0; k < count; ++k)
-      scratch.state[s][k] = current[std::size_t(begin + k) * species + s];
-    scratch.state_spans[s] = std::span<const double>(scratch.state[s]).first(std::size_t(count));
-  }
-  const auto substrate =
-      substrate_.empty() ? std::span<const double>()
-                         : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
-  model_.coefficients(t, scratch.state_spans,
-                      {std::span(ids_).subspan(std::size_t(begin), std::size_t(count)),
-                       std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count)),
-                       substrate},
-                      coefficients);
+  if constexpr (!kPointwise)
+    evaluate_block(begin, count, t, scratch);
   for (std::int32_t k = 0; k < count; ++k) {
     const std::int32_t i = begin + k;
     const double* own = &current[std::size_t(i) * species];
@@ -157,12 +150,35 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
       for (std::size_t s = 0; s < species; ++s)
         sum[s] += w * (other[s] - own[s]);
     }
+    std::array<double, (Species > 0 ? Species : 1)> linear{}, source{};
+    if constexpr (kPointwise)
+      pointwise->vertex_coefficients(own[0], own[1], substrate_[i], linear.data(), source.data());
     for (std::size_t s = 0; s < species; ++s) {
-      const double rate =
-          rates_[s] * sum[s] + coefficients[s].linear[k] * own[s] + coefficients[s].source[k];
+      const double c2 = kPointwise ? linear[s] : coefficients[s].linear[k];
+      const double c3 = kPointwise ? source[s] : coefficients[s].source[k];
+      const double rate = rates_[s] * sum[s] + c2 * own[s] + c3;
       out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
     }
   }
+}
+
+void CellRdSolver::evaluate_block(std::int32_t begin, std::int32_t count, double t,
+                                  BlockScratch& scratch) const {
+  const std::size_t species = names_.size();
+  const auto current = current_->local();
+  for (std::size_t s = 0; s < species; ++s) {
+    for (std::int32_t k = 0; k < count; ++k)
+      scratch.state[s][k] = current[std::size_t(begin + k) * species + s];
+    scratch.state_spans[s] = std::span<const double>(scratch.state[s]).first(std::size_t(count));
+  }
+  const auto substrate =
+      substrate_.empty() ? std::span<const double>()
+                         : std::span(substrate_).subspan(std::size_t(begin), std::size_t(count));
+  model_.coefficients(t, scratch.state_spans,
+                      {std::span(ids_).subspan(std::size_t(begin), std::size_t(count)),
+                       std::span(xyz_).subspan(3 * std::size_t(begin), 3 * std::size_t(count)),
+                       substrate},
+                      scratch.coefficients);
 }
 
 void CellRdSolver::step(double t) {
@@ -178,7 +194,10 @@ void CellRdSolver::step(double t) {
       const std::int32_t count = std::min(kBlock, n - begin);
       switch (species) {
       case 2:
-        update_block<2>(begin, count, t, scratch);
+        if (turing_spots_)
+          update_block<2>(begin, count, t, scratch, turing_spots_);
+        else
+          update_block<2>(begin, count, t, scratch);
         break;
       case 5:
         update_block<5>(begin, count, t, scratch);

@@ -15,6 +15,7 @@
 #include "par/comm.hpp"
 #include "par/ghosted_vector.hpp"
 #include "pipelines/fem_rd/reaction_model.hpp"
+#include "pipelines/fem_rd/turing_spots_model.hpp"
 
 #include <memory>
 #include <span>
@@ -63,9 +64,15 @@ private:
     std::vector<fem_rd::SpeciesCoefficients> coefficients;
     std::vector<double> laplacian; ///< for run-time species counts
   };
-  template <int Species>
-  void update_block(std::int32_t begin, std::int32_t count, double t,
-                    BlockScratch& scratch) const;
+  /// With `Pointwise` a model type with vertex_coefficients() (Turing spots), the reaction is
+  /// evaluated cell by cell inside the stencil loop; with void, through coefficients() on the
+  /// block. Both give the same bits.
+  template <int Species, typename Pointwise = void>
+  void update_block(std::int32_t begin, std::int32_t count, double t, BlockScratch& scratch,
+                    const Pointwise* pointwise = nullptr) const;
+  /// The model's C2 and C3 for the block's cells into scratch.coefficients.
+  void evaluate_block(std::int32_t begin, std::int32_t count, double t,
+                      BlockScratch& scratch) const;
 
   const par::Comm& comm_;
   const geom::SurfaceCells& cells_;
@@ -82,6 +89,8 @@ private:
   std::vector<char> frozen_;
   std::unique_ptr<par::GhostedVector> current_, next_;
   std::vector<BlockScratch> scratch_; ///< one per OpenMP thread
+  /// The model when it is Turing's spot system, whose reaction the step fuses into the stencil.
+  const fem_rd::TuringSpotsModel* turing_spots_ = nullptr;
 };
 
 } // namespace texsim::pipelines::turk_rd
