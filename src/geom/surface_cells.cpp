@@ -148,8 +148,8 @@ void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, d
     for (int c = 0; c < 3; ++c) {
       const auto& tri = mesh.triangles[t];
       corners.push_back(mesh.positions[tri[c]]);
-      longest_edge = std::max(
-          longest_edge, (mesh.positions[tri[c]] - mesh.positions[tri[(c + 1) % 3]]).norm());
+      longest_edge = std::max(longest_edge,
+                              (mesh.positions[tri[c]] - mesh.positions[tri[(c + 1) % 3]]).norm());
     }
   const double reach = halo + longest_edge;
   const auto needed = covering_boxes(corners, 3.0 * reach, reach);
