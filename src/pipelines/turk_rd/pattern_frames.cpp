@@ -7,6 +7,7 @@
 #include "geom/point_halo.hpp"
 #include "io/parallel_surface_writer.hpp"
 #include "par/collective.hpp"
+#include "par/global_range.hpp"
 #include "par/morton_partition.hpp"
 
 #include <mpi.h>
@@ -152,16 +153,9 @@ void PatternFrames::write(std::int64_t step, const FrameData& data) {
     lo = (*render_.range)[0];
     hi = (*render_.range)[1];
   } else {
-    double local[2] = {std::numeric_limits<double>::infinity(),
-                       std::numeric_limits<double>::infinity()};
-    for (const double v : data.shown) {
-      local[0] = std::min(local[0], v);
-      local[1] = std::min(local[1], -v);
-    }
-    double global[2];
-    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, comm_.raw);
-    lo = global[0];
-    hi = -global[1];
+    const auto range = par::global_range(comm_, data.shown);
+    lo = range.min;
+    hi = range.max;
     if (!(hi > lo))
       hi = lo + 1.0;
   }

@@ -5,6 +5,7 @@
 #include "core/progress.hpp"
 #include "geom/mesh_topology.hpp"
 #include "par/collective.hpp"
+#include "par/global_range.hpp"
 #include "pipelines/turk_rd/cascade_checkpoint.hpp"
 #include "pipelines/turk_rd/cell_expression.hpp"
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
@@ -54,22 +55,6 @@ std::vector<double> diffusion_scale(const par::Comm& comm, const TurkRdSettings&
                                   xyz[3 * i + 2], ")"));
   });
   return scale;
-}
-
-struct MinMax {
-  double min, max;
-};
-
-MinMax global_min_max(const par::Comm& comm, std::span<const double> values) {
-  double local[2] = {std::numeric_limits<double>::infinity(),
-                     std::numeric_limits<double>::infinity()};
-  for (const double v : values) {
-    local[0] = std::min(local[0], v);
-    local[1] = std::min(local[1], -v);
-  }
-  double global[2];
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, comm.raw);
-  return {global[0], -global[1]};
 }
 
 /// Throws InputError naming the stage's dt when a value left the finite range: the explicit
@@ -200,8 +185,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
       local_area += a;
     MPI_Allreduce(&local_area, &total_cell_area, 1, MPI_DOUBLE, MPI_SUM, comm.raw);
     const double mean_area = cells.surface_area() / double(cells.global_count());
-    const auto area_range = global_min_max(comm, cells.areas());
-    const auto coupling_range = global_min_max(comm, cells.couplings());
+    const auto area_range = par::global_range(comm, cells.areas());
+    const auto coupling_range = par::global_range(comm, cells.couplings());
     const auto& q = cells.quality();
     const auto& relaxation = cells.relaxation();
     report.metric("cells", {{"count", cells.global_count()},
@@ -326,7 +311,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
     carried = stage_run.species_fields();
     for (std::size_t s = 0; s < solver.species_count(); ++s) {
       const auto& values = carried.at(stage.species[s]);
-      const auto range = global_min_max(comm, values);
+      const auto range = par::global_range(comm, values);
       const auto shapes = measure_pattern(comm, cells, values);
       species_metrics[stage.species[s]] = {{"initial_integral", initial_integral[s]},
                                            {"final_integral", solver.integral(s)},
