@@ -11,8 +11,8 @@
 namespace texsim::par {
 
 struct Range {
-  double min = std::numeric_limits<double>::infinity();   ///< +inf when every span is empty
-  double max = -std::numeric_limits<double>::infinity();  ///< -inf when every span is empty
+  double min = std::numeric_limits<double>::infinity();  ///< +inf when every span is empty
+  double max = -std::numeric_limits<double>::infinity(); ///< -inf when every span is empty
 };
 
 /// Collective.

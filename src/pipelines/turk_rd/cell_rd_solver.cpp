@@ -15,6 +15,10 @@ namespace texsim::pipelines::turk_rd {
 namespace {
 /// Cells per reaction block: the block's species values and coefficients stay in L1/L2 cache.
 constexpr std::int32_t kBlock = 256;
+/// Cells summed side by side: their independent sums hide the latency of each add chain and of
+/// the neighbour gathers (one cell's sum is a serial chain of about six dependent adds).
+constexpr std::int32_t kLanes = 8;
+static_assert(kBlock % kLanes == 0);
 } // namespace
 
 CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
@@ -42,6 +46,7 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
       weights_[e] = mean_area / cells.areas()[i] * f * cells.couplings()[e];
     }
 
+  build_lane_groups();
   ids_.assign(cells.ids().begin(), cells.ids().end());
   for (const auto& p : cells.points())
     xyz_.insert(xyz_.end(), p.position.data(), p.position.data() + 3);
@@ -91,6 +96,31 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
   current_->update_ghosts();
 }
 
+void CellRdSolver::build_lane_groups() {
+  // Group g holds cells [g kLanes, (g + 1) kLanes); slot k of lane l is entry
+  // group_offsets_[g] + k kLanes + l. Lists are padded to the group's largest degree with the
+  // cell itself and weight 0: 0 * (c_i - c_i) adds +0, so each sum keeps its bits.
+  const std::int32_t n = cells_.owned_count();
+  const auto& stencil = cells_.neighbors();
+  const std::int32_t groups = (n + kLanes - 1) / kLanes;
+  group_offsets_.assign(1, 0);
+  group_widths_.clear();
+  for (std::int32_t g = 0; g < groups; ++g) {
+    std::int64_t width = 0;
+    for (std::int32_t i = g * kLanes; i < std::min(n, (g + 1) * kLanes); ++i)
+      width = std::max(width, stencil.offsets[i + 1] - stencil.offsets[i]);
+    for (std::int64_t k = 0; k < width; ++k)
+      for (std::int32_t lane = 0; lane < kLanes; ++lane) {
+        const std::int32_t i = std::min(g * kLanes + lane, n - 1);
+        const bool real = g * kLanes + lane < n && k < stencil.offsets[i + 1] - stencil.offsets[i];
+        group_index_.push_back(real ? stencil.indices[stencil.offsets[i] + k] : i);
+        group_weight_.push_back(real ? weights_[stencil.offsets[i] + k] : 0.0);
+      }
+    group_widths_.push_back(std::int32_t(width));
+    group_offsets_.push_back(std::int64_t(group_index_.size()));
+  }
+}
+
 std::vector<double> CellRdSolver::owned_values(std::size_t s) const {
   const std::size_t species = names_.size();
   const auto local = current_->local();
@@ -132,32 +162,66 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
   auto& coefficients = scratch.coefficients;
   if constexpr (!kPointwise)
     evaluate_block(begin, count, t, scratch);
-  for (std::int32_t k = 0; k < count; ++k) {
-    const std::int32_t i = begin + k;
-    const double* own = &current[std::size_t(i) * species];
-    double* out = &next[std::size_t(i) * species];
-    if (frozen_[i]) {
-      std::copy(own, own + species, out);
-      continue;
+  if constexpr (Species == 0) {
+    // Run-time species count (user systems): one cell at a time along its CSR row.
+    for (std::int32_t k = 0; k < count; ++k) {
+      const std::int32_t i = begin + k;
+      const double* own = &current[std::size_t(i) * species];
+      double* out = &next[std::size_t(i) * species];
+      if (frozen_[i]) {
+        std::copy(own, own + species, out);
+        continue;
+      }
+      double* sum = scratch.laplacian.data();
+      std::fill(sum, sum + species, 0.0);
+      for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
+        const double* other = &current[std::size_t(stencil.indices[e]) * species];
+        for (std::size_t s = 0; s < species; ++s)
+          sum[s] += weights_[e] * (other[s] - own[s]);
+      }
+      for (std::size_t s = 0; s < species; ++s) {
+        const double rate =
+            rates_[s] * sum[s] + coefficients[s].linear[k] * own[s] + coefficients[s].source[k];
+        out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
+      }
     }
-    // A fixed-size accumulator for the usual systems keeps it in registers.
-    std::array<double, (Species > 0 ? Species : 1)> in_registers{};
-    double* sum = Species > 0 ? in_registers.data() : scratch.laplacian.data();
-    std::fill(sum, sum + species, 0.0);
-    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
-      const double* other = &current[std::size_t(stencil.indices[e]) * species];
-      const double w = weights_[e];
-      for (std::size_t s = 0; s < species; ++s)
-        sum[s] += w * (other[s] - own[s]);
-    }
-    std::array<double, (Species > 0 ? Species : 1)> linear{}, source{};
-    if constexpr (kPointwise)
-      pointwise->vertex_coefficients(own[0], own[1], substrate_[i], linear.data(), source.data());
-    for (std::size_t s = 0; s < species; ++s) {
-      const double c2 = kPointwise ? linear[s] : coefficients[s].linear[k];
-      const double c3 = kPointwise ? source[s] : coefficients[s].source[k];
-      const double rate = rates_[s] * sum[s] + c2 * own[s] + c3;
-      out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
+  } else {
+    const std::int32_t n = cells_.owned_count();
+    for (std::int32_t first = begin; first < begin + count; first += kLanes) {
+      const std::int32_t g = first / kLanes;
+      const std::int32_t lanes = std::min(kLanes, begin + count - first);
+      double own[Species][kLanes], sum[Species][kLanes] = {};
+      for (std::int32_t lane = 0; lane < kLanes; ++lane)
+        for (int s = 0; s < Species; ++s)
+          own[s][lane] = current[std::size_t(std::min(first + lane, n - 1)) * Species + s];
+      const std::int32_t* index = &group_index_[std::size_t(group_offsets_[g])];
+      const double* weight = &group_weight_[std::size_t(group_offsets_[g])];
+      for (std::int32_t k = 0; k < group_widths_[g]; ++k)
+        for (std::int32_t lane = 0; lane < kLanes; ++lane) {
+          const double* other = &current[std::size_t(index[k * kLanes + lane]) * Species];
+          const double w = weight[k * kLanes + lane];
+          for (int s = 0; s < Species; ++s)
+            sum[s][lane] += w * (other[s] - own[s][lane]);
+        }
+      for (std::int32_t lane = 0; lane < lanes; ++lane) {
+        const std::int32_t i = first + lane;
+        const std::int32_t k = i - begin;
+        double* out = &next[std::size_t(i) * Species];
+        if (frozen_[i]) {
+          for (int s = 0; s < Species; ++s)
+            out[s] = own[s][lane];
+          continue;
+        }
+        double linear[Species] = {}, source[Species] = {};
+        if constexpr (kPointwise)
+          pointwise->vertex_coefficients(own[0][lane], own[1][lane], substrate_[i], linear, source);
+        for (int s = 0; s < Species; ++s) {
+          const double c2 = kPointwise ? linear[s] : coefficients[s].linear[k];
+          const double c3 = kPointwise ? source[s] : coefficients[s].source[k];
+          const double rate = rates_[s] * sum[s][lane] + c2 * own[s][lane] + c3;
+          out[s] = std::max(own[s][lane] + dt_ * rate, lower_bounds_[s]);
+        }
+      }
     }
   }
 }

@@ -70,6 +70,8 @@ private:
   template <int Species, typename Pointwise = void>
   void update_block(std::int32_t begin, std::int32_t count, double t, BlockScratch& scratch,
                     const Pointwise* pointwise = nullptr) const;
+  /// The stencil rearranged for update_block: see build_lane_groups().
+  void build_lane_groups();
   /// The model's C2 and C3 for the block's cells into scratch.coefficients.
   void evaluate_block(std::int32_t begin, std::int32_t count, double t,
                       BlockScratch& scratch) const;
@@ -83,9 +85,14 @@ private:
   std::vector<double> rates_;        ///< D_s of each species
   std::vector<double> lower_bounds_; ///< per species
   std::vector<double> weights_;      ///< (abar / A_i) f_ij w_ij, parallel to the stencil CSR
-  std::vector<std::int64_t> ids_;    ///< owned cell ids (random substrate keys)
-  std::vector<double> xyz_;          ///< owned cell centres
-  std::vector<double> substrate_;    ///< the model's random substrate per owned cell (or empty)
+  /// The stencil by groups of consecutive cells, their lists side by side (build_lane_groups).
+  std::vector<std::int64_t> group_offsets_;
+  std::vector<std::int32_t> group_widths_;
+  std::vector<std::int32_t> group_index_;
+  std::vector<double> group_weight_;
+  std::vector<std::int64_t> ids_; ///< owned cell ids (random substrate keys)
+  std::vector<double> xyz_;       ///< owned cell centres
+  std::vector<double> substrate_; ///< the model's random substrate per owned cell (or empty)
   std::vector<char> frozen_;
   std::unique_ptr<par::GhostedVector> current_, next_;
   std::vector<BlockScratch> scratch_; ///< one per OpenMP thread
