@@ -86,18 +86,25 @@ template <> std::optional<std::string> convert<std::string>(const YAML::Node& no
     return std::nullopt;
   return node.Scalar();
 }
-template <>
-std::optional<std::vector<double>> convert<std::vector<double>>(const YAML::Node& node) {
+template <class T> std::optional<std::vector<T>> decode_sequence(const YAML::Node& node) {
   if (!node.IsSequence())
     return std::nullopt;
-  std::vector<double> values;
+  std::vector<T> values;
   for (const auto& item : node) {
-    const auto value = decode<double>(item);
+    const auto value = convert<T>(item);
     if (!value)
       return std::nullopt;
     values.push_back(*value);
   }
   return values;
+}
+template <>
+std::optional<std::vector<double>> convert<std::vector<double>>(const YAML::Node& node) {
+  return decode_sequence<double>(node);
+}
+template <>
+std::optional<std::vector<std::string>> convert<std::vector<std::string>>(const YAML::Node& node) {
+  return decode_sequence<std::string>(node);
 }
 template <>
 std::optional<std::array<double, 3>> convert<std::array<double, 3>>(const YAML::Node& node) {
@@ -127,6 +134,9 @@ template <> std::string type_name<std::string>() {
 }
 template <> std::string type_name<std::vector<double>>() {
   return "a list of numbers";
+}
+template <> std::string type_name<std::vector<std::string>>() {
+  return "a list of strings";
 }
 template <> std::string type_name<std::array<double, 3>>() {
   return "a list of 3 numbers";

@@ -145,6 +145,7 @@ TEXSIM_CONFIG_TYPE(std::uint64_t)
 TEXSIM_CONFIG_TYPE(bool)
 TEXSIM_CONFIG_TYPE(std::string)
 TEXSIM_CONFIG_TYPE(std::vector<double>)
+TEXSIM_CONFIG_TYPE(std::vector<std::string>)
 using Vec3Array = std::array<double, 3>;
 TEXSIM_CONFIG_TYPE(Vec3Array)
 #undef TEXSIM_CONFIG_TYPE

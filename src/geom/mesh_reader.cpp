@@ -6,6 +6,7 @@
 
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
+#include <vtkDataArray.h>
 #include <vtkDataSet.h>
 #include <vtkExecutive.h>
 #include <vtkGenericDataObjectReader.h>
@@ -14,6 +15,7 @@
 #include <vtkNew.h>
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
@@ -24,6 +26,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -85,7 +88,9 @@ void update_or_throw(vtkAlgorithm* algorithm, const std::filesystem::path& path,
   }
 }
 
-TriangleMesh read_with_vtk(const std::filesystem::path& path, const std::string& ext) {
+/// The file's surface as VTK triangles, point data passed through.
+vtkSmartPointer<vtkPolyData> read_vtk_triangles(const std::filesystem::path& path,
+                                                const std::string& ext) {
   const auto expected = "a " + ext.substr(1) + " mesh file";
   auto reader = make_vtk_reader(ext, path.string());
   update_or_throw(reader, path, expected.c_str());
@@ -106,8 +111,10 @@ TriangleMesh read_with_vtk(const std::filesystem::path& path, const std::string&
   triangulate->PassVertsOff();
   triangulate->PassLinesOff();
   update_or_throw(triangulate, path, expected.c_str());
-  vtkPolyData* triangles = triangulate->GetOutput();
+  return triangulate->GetOutput();
+}
 
+TriangleMesh to_triangle_mesh(vtkPolyData* triangles, const std::filesystem::path& path) {
   TriangleMesh mesh;
   const vtkIdType n_points = triangles->GetNumberOfPoints();
   if (n_points > std::numeric_limits<std::int32_t>::max()) {
@@ -130,6 +137,23 @@ TriangleMesh read_with_vtk(const std::filesystem::path& path, const std::string&
   return mesh;
 }
 
+std::string array_names(vtkPointData* data) {
+  std::string names;
+  for (int k = 0; k < data->GetNumberOfArrays(); ++k) {
+    const char* name = data->GetArrayName(k);
+    names += (names.empty() ? "" : ", ") + std::string(name != nullptr ? name : "(unnamed)");
+  }
+  return names.empty() ? "none" : names;
+}
+
+void require_file(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    TEXSIM_INPUT_ERROR(path.string()
+                       << ": no such file; expected a mesh file (" << kKnownExtensions << ")");
+  }
+}
+
 } // namespace
 
 TriangleMesh read_raw_mesh(const std::filesystem::path& path) {
@@ -140,12 +164,8 @@ TriangleMesh read_raw_mesh(const std::filesystem::path& path) {
     TEXSIM_INPUT_ERROR(path.string() << ": unknown mesh extension '" << ext << "'; expected one of "
                                      << kKnownExtensions);
   }
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    TEXSIM_INPUT_ERROR(path.string()
-                       << ": no such file; expected a mesh file (" << kKnownExtensions << ")");
-  }
-  auto mesh = vtk_format ? read_with_vtk(path, ext) : read_off(path);
+  require_file(path);
+  auto mesh = vtk_format ? to_triangle_mesh(read_vtk_triangles(path, ext), path) : read_off(path);
   if (mesh.triangles.empty()) {
     TEXSIM_INPUT_ERROR(path.string() << ": no triangles (" << mesh.positions.size()
                                      << " vertices); expected a triangle surface");
@@ -161,6 +181,42 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const MeshRepairOption
     *report = repaired;
   }
   return mesh;
+}
+
+VertexFields read_vertex_fields(const std::filesystem::path& path,
+                                const std::vector<std::string>& names) {
+  const auto ext = lower_extension(path);
+  // VTK's PLY reader keeps only colours, normals and texture coordinates: no named arrays.
+  if (ext != ".vtk" && ext != ".vtp" && ext != ".vtu") {
+    TEXSIM_INPUT_ERROR(path.string() << ": per-vertex fields are read from .vtp, .vtu and .vtk "
+                                        "files (ParaView: File > Save Data), not '"
+                                     << ext << "'");
+  }
+  require_file(path);
+  const auto triangles = read_vtk_triangles(path, ext);
+  VertexFields fields{to_triangle_mesh(triangles, path), {}};
+  if (fields.mesh.triangles.empty()) {
+    TEXSIM_INPUT_ERROR(path.string() << ": no triangles; expected a triangle surface");
+  }
+  vtkPointData* data = triangles->GetPointData();
+  for (const auto& name : names) {
+    vtkDataArray* array = data->GetArray(name.c_str());
+    if (array == nullptr || array->GetNumberOfComponents() != 1) {
+      TEXSIM_INPUT_ERROR(path.string() << ": no one-component point array '" << name
+                                       << "'; the file's point arrays: " << array_names(data));
+    }
+    std::vector<double> values(std::size_t(array->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i) {
+      values[std::size_t(i)] = array->GetTuple1(i);
+      if (!std::isfinite(values[std::size_t(i)])) {
+        TEXSIM_INPUT_ERROR(path.string()
+                           << ": point array '" << name << "' holds " << values[std::size_t(i)]
+                           << " at point " << i << "; expected finite values");
+      }
+    }
+    fields.values.push_back(std::move(values));
+  }
+  return fields;
 }
 
 } // namespace texsim::geom

@@ -4,6 +4,8 @@
 #include "geom/triangle_mesh.hpp"
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace texsim::geom {
 
@@ -19,5 +21,17 @@ TriangleMesh read_raw_mesh(const std::filesystem::path& path);
 /// receives what was repaired, for the caller to log. Throws texsim::InputError as both do.
 TriangleMesh read_mesh(const std::filesystem::path& path, const MeshRepairOptions& options = {},
                        RepairReport* report = nullptr);
+
+/// A surface with values at its vertices, as stored in a file (no repair).
+struct VertexFields {
+  TriangleMesh mesh;
+  std::vector<std::vector<double>> values; ///< [field][vertex of mesh]
+};
+
+/// The one-component point arrays `names` of a .vtp, .vtu or .vtk file, with the file's
+/// triangles. Throws texsim::InputError naming the file for another format, a missing array
+/// (listing the arrays the file has) and non-finite values. Serial.
+VertexFields read_vertex_fields(const std::filesystem::path& path,
+                                const std::vector<std::string>& names);
 
 } // namespace texsim::geom

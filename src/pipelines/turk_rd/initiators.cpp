@@ -11,7 +11,9 @@
 namespace texsim::pipelines::turk_rd {
 
 std::vector<char> select_initiator_cells(const par::Comm& comm, const geom::SurfaceCells& cells,
-                                         const InitiatorSettings& initiator) {
+                                         const InitiatorSettings& initiator,
+                                         const std::vector<std::string>& names,
+                                         const std::vector<std::span<const double>>& columns) {
   const std::int32_t n = cells.owned_count();
   std::vector<char> selected(std::size_t(n), 0);
   if (initiator.at) {
@@ -38,8 +40,8 @@ std::vector<char> select_initiator_cells(const par::Comm& comm, const geom::Surf
     std::vector<double> xyz;
     for (const auto& p : cells.points())
       xyz.insert(xyz.end(), p.position.data(), p.position.data() + 3);
-    const auto value =
-        CellExpression(initiator.region, {}, initiator.key_path + ".region").evaluate(xyz, {});
+    const auto value = CellExpression(initiator.region, names, initiator.key_path + ".region")
+                           .evaluate(xyz, columns);
     for (std::int32_t i = 0; i < n; ++i)
       selected[i] = value[i] != 0.0;
   }

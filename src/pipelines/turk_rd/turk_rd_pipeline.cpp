@@ -3,7 +3,9 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/surface_field_sampler.hpp"
 #include "par/collective.hpp"
 #include "par/global_range.hpp"
 #include "pipelines/turk_rd/cascade_checkpoint.hpp"
@@ -39,14 +41,37 @@ std::vector<std::span<const double>> columns(const FieldMap& fields,
   return result;
 }
 
-/// f(x, y, z) at the owned cells; must be positive everywhere. Collective.
+/// The point arrays `settings.mesh_fields` of the mesh file at the owned cells: interpolated at
+/// the closest point of the file's surface (scaled as the mesh section says; refinement and noise
+/// move the cells off it). Collective.
+FieldMap sample_mesh_fields(const par::Comm& comm, const TurkRdSettings& settings,
+                            const geom::SurfaceCells& cells) {
+  FieldMap fields;
+  if (settings.mesh_fields.empty())
+    return fields;
+  par::run_collectively(comm, [&] {
+    auto file = geom::read_vertex_fields(settings.mesh.file, settings.mesh_fields);
+    for (auto& position : file.mesh.positions)
+      position *= settings.mesh.scale;
+    const geom::SurfaceFieldSampler sampler(file.mesh, std::move(file.values));
+    std::vector<geom::Vec3> points;
+    for (const auto& p : cells.points())
+      points.push_back(p.position);
+    for (std::size_t k = 0; k < settings.mesh_fields.size(); ++k)
+      fields[settings.mesh_fields[k]] = sampler.sample(k, points);
+  });
+  return fields;
+}
+
+/// f at the owned cells, from position and mesh fields; must be positive everywhere. Collective.
 std::vector<double> diffusion_scale(const par::Comm& comm, const TurkRdSettings& settings,
-                                    const geom::SurfaceCells& cells) {
+                                    const geom::SurfaceCells& cells, const FieldMap& mesh_fields) {
   std::vector<double> scale;
   par::run_collectively(comm, [&] {
     const auto xyz = owned_xyz(cells);
     scale =
-        CellExpression(settings.diffusion_scale, {}, "turk_rd.diffusion_scale").evaluate(xyz, {});
+        CellExpression(settings.diffusion_scale, settings.mesh_fields, "turk_rd.diffusion_scale")
+            .evaluate(xyz, columns(mesh_fields, settings.mesh_fields));
     for (std::size_t i = 0; i < scale.size(); ++i)
       if (!(scale[i] > 0.0) || !std::isfinite(scale[i]))
         throw InputError(log::cat("turk_rd.diffusion_scale: expected a positive value at every "
@@ -77,15 +102,19 @@ void check_finite(const par::Comm& comm, const StageSettings& stage, std::int64_
 /// One stage of the cascade set up on the cells: its solver, frozen cells and start values.
 class StageRun {
 public:
+  /// `fields` holds the earlier stages' results, the carried species and the mesh fields.
   StageRun(const par::Comm& comm, const geom::SurfaceCells& cells, const StageSettings& stage,
-           const std::vector<std::string>& earlier_names, const FieldMap& fields,
+           const std::vector<std::string>& earlier_names,
+           const std::vector<std::string>& mesh_field_names, const FieldMap& fields,
            std::span<const double> scale, bool fresh)
       : stage_(stage), earlier_names_(earlier_names),
         solver_(comm, cells, *stage.model, scale, stage.dt), xyz_(owned_xyz(cells)) {
     std::vector<char> frozen(std::size_t(cells.owned_count()), 0);
     if (!stage.active.empty()) {
-      const auto active = CellExpression(stage.active, earlier_names, stage.key_path + ".active")
-                              .evaluate(xyz_, columns(fields, earlier_names));
+      auto names = earlier_names;
+      names.insert(names.end(), mesh_field_names.begin(), mesh_field_names.end());
+      const auto active = CellExpression(stage.active, names, stage.key_path + ".active")
+                              .evaluate(xyz_, columns(fields, names));
       for (std::size_t i = 0; i < frozen.size(); ++i)
         frozen[i] = active[i] == 0.0;
     }
@@ -108,7 +137,8 @@ public:
       solver_.set_owned_values(s, values);
     }
     for (const auto& initiator : stage.initiators) {
-      const auto selected = select_initiator_cells(comm, cells, initiator);
+      const auto selected = select_initiator_cells(comm, cells, initiator, mesh_field_names,
+                                                   columns(fields, mesh_field_names));
       for (std::size_t i = 0; i < frozen.size(); ++i)
         frozen[i] |= selected[i];
       if (!fresh)
@@ -211,7 +241,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
                        "; partition edge cut ", q.edge_cut, ", imbalance ", q.imbalance));
   }
 
-  const auto scale = diffusion_scale(comm, settings_, cells);
+  const auto mesh_fields = sample_mesh_fields(comm, settings_, cells);
+  const auto scale = diffusion_scale(comm, settings_, cells, mesh_fields);
   const auto& stages = settings_.stages;
   io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
                             run.checkpoint_keep);
@@ -261,10 +292,11 @@ void TurkRdPipeline::run(RunContext& ctx) {
     const bool fresh = !(run.restart && k == state.stage);
     const std::int64_t first_step = fresh ? 0 : state.stage_step;
     StageRun stage_run(
-        comm, cells, stage, earlier_stage_names(stages, k),
+        comm, cells, stage, earlier_stage_names(stages, k), settings_.mesh_fields,
         [&] {
           FieldMap all = carried;
           all.insert(earlier.begin(), earlier.end());
+          all.insert(mesh_fields.begin(), mesh_fields.end());
           return all;
         }(),
         scale, fresh);

@@ -4,6 +4,7 @@
 #include "pipelines/turk_rd/cell_expression.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <numeric>
 
 namespace texsim::pipelines::turk_rd {
@@ -37,7 +38,8 @@ std::size_t species_index(const StageSettings& stage, const ConfigSection& secti
 }
 
 std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
-                                               const StageSettings& stage) {
+                                               const StageSettings& stage,
+                                               const std::vector<std::string>& mesh_fields) {
   std::vector<InitiatorSettings> result;
   for (const std::string& name : initiators.keys()) {
     const ConfigSection entry = initiators.section(name);
@@ -52,7 +54,7 @@ std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
       initiator.radius = entry.get<double>("radius", 0.0, non_negative());
     } else {
       initiator.region = entry.require<std::string>("region");
-      CellExpression(initiator.region, {}, entry.key_path("region"));
+      CellExpression(initiator.region, mesh_fields, entry.key_path("region"));
     }
     const ConfigSection values = entry.section("set");
     for (const std::string& species : values.keys())
@@ -61,6 +63,26 @@ std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
     result.push_back(std::move(initiator));
   }
   return result;
+}
+
+/// `mesh_fields: [name, ...]`: point arrays of the mesh file, each a plain identifier.
+std::vector<std::string> read_mesh_fields(const ConfigSection& section,
+                                          const geom::MeshSource& mesh) {
+  const auto names = section.get<std::vector<std::string>>("mesh_fields", {});
+  if (!names.empty() && mesh.file.empty())
+    section.fail("mesh_fields", "no mesh fields with a generated mesh (they are point arrays of "
+                                "mesh.file)");
+  for (const auto& name : names) {
+    const bool identifier =
+        !name.empty() && !std::isdigit(static_cast<unsigned char>(name.front())) &&
+        std::all_of(name.begin(), name.end(),
+                    [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+    if (!identifier || name == "x" || name == "y" || name == "z")
+      section.fail("mesh_fields", "array names usable in expressions (letters, digits, _; not "
+                                  "x, y, z), got '" +
+                                      name + "'");
+  }
+  return names;
 }
 
 RenderSettings read_render(const ConfigSection& render) {
@@ -100,8 +122,10 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
   TurkRdSettings settings;
   settings.mesh = geom::read_mesh_source(section.section("mesh"));
   settings.cells = read_cells(section.section("cells"));
+  settings.mesh_fields = read_mesh_fields(section, settings.mesh);
   settings.diffusion_scale = section.get<std::string>("diffusion_scale", "1");
-  CellExpression(settings.diffusion_scale, {}, section.key_path("diffusion_scale"));
+  CellExpression(settings.diffusion_scale, settings.mesh_fields,
+                 section.key_path("diffusion_scale"));
 
   if (!section.has("stages") || section.section("stages").keys().empty())
     section.fail("stages", "a mapping of stage names to {model, steps, dt, ...}, run in order");
@@ -118,11 +142,19 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
     });
     stage.dt = entry.get<double>("dt", stage.dt, positive());
     const auto earlier = earlier_stage_names(settings.stages, settings.stages.size());
+    for (const auto& field : settings.mesh_fields)
+      if (std::find(stage.species.begin(), stage.species.end(), field) != stage.species.end() ||
+          std::find(earlier.begin(), earlier.end(), field) != earlier.end())
+        section.fail("mesh_fields", "names unlike the species and \"<stage>_<species>\" ('" +
+                                        field + "' is both)");
     stage.active = entry.get<std::string>("active", "");
     if (!stage.active.empty()) {
       if (settings.stages.empty())
         entry.fail("active", "no `active` on the first stage (there is no earlier pattern)");
-      CellExpression(stage.active, earlier, entry.key_path("active"));
+      auto active_names = earlier;
+      active_names.insert(active_names.end(), settings.mesh_fields.begin(),
+                          settings.mesh_fields.end());
+      CellExpression(stage.active, active_names, entry.key_path("active"));
     }
     stage.active_start_initial =
         entry.choice<bool>("active_start", false, {{"carried", false}, {"initial", true}});
@@ -130,7 +162,7 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
     auto show_names = stage.species;
     show_names.insert(show_names.end(), earlier.begin(), earlier.end());
     CellExpression(stage.show, show_names, entry.key_path("show"));
-    stage.initiators = read_initiators(entry.section("initiators"), stage);
+    stage.initiators = read_initiators(entry.section("initiators"), stage, settings.mesh_fields);
     settings.stages.push_back(std::move(stage));
   }
   settings.render = read_render(section.section("render"));

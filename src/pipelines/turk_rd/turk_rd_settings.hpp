@@ -4,7 +4,8 @@
 ///     mesh: {generator: icosphere, level: 4}            # or {file: data/meshes/cow.off}
 ///     cells: {count: 20000, relaxation: {iterations: 40}}
 ///     diffusion_scale: "1 + 0.5 * (x > 0.2)"            # f(x, y, z): faster diffusion, wider
-///     stripes stages:                                           # run in file order: a cascade
+///     stripes (or of a per-vertex array of the mesh file named in mesh_fields: [width]) stages: #
+///     run in file order: a cascade
 ///       spots: {model: {type: turing_spots, s: 0.05}, steps: 20000, dt: 1.0}
 ///       rosettes: {model: {...}, steps: 8000, active: "spots_b < 4", show: "b"}
 ///     render: {colors: [[0.93, 0.78, 0.52], [0.1, 0.07, 0.05]], radius: 2, bump: 0.01}
@@ -26,7 +27,7 @@ struct InitiatorSettings {
   std::string name;
   std::optional<geom::Vec3> at;
   double radius = 0.0;
-  std::string region; ///< expression of x, y, z; empty when `at` is used
+  std::string region; ///< expression of x, y, z and the mesh fields; empty when `at` is used
   std::vector<std::pair<std::size_t, double>> values; ///< (species index, value held)
   std::string key_path;                               ///< "turk_rd.stages.s.initiators.head"
 };
@@ -38,8 +39,8 @@ struct StageSettings {
   std::vector<std::string> species;
   std::int64_t steps = 10000;
   double dt = 1.0;
-  /// Cells where this is zero keep their values during the stage (expression of x, y, z and the
-  /// earlier stages' final values "<stage>_<species>"); empty: all cells change.
+  /// Cells where this is zero keep their values during the stage (expression of x, y, z, the mesh
+  /// fields and the earlier stages' final values "<stage>_<species>"); empty: all cells change.
   std::string active;
   /// active_start: "carried" (the active cells continue from the earlier stage's values) or
   /// "initial" (they restart from this stage's model initial state; frozen cells keep theirs).
@@ -62,6 +63,9 @@ struct RenderSettings {
 struct TurkRdSettings {
   geom::MeshSource mesh;
   geom::SurfaceCellsSettings cells;
+  /// One-component point arrays of mesh.file, sampled at the cells: variables of diffusion_scale,
+  /// the initiators' regions and the stages' `active` under their array names.
+  std::vector<std::string> mesh_fields;
   std::string diffusion_scale = "1";
   std::vector<StageSettings> stages;
   RenderSettings render;
