@@ -2,7 +2,8 @@
 // run through the binary on 2 ranks: a sphere stored as .vtp with the point array
 // width = 1 + 0.3 x - 0.2 y + 0.1 z. With `diffusion_scale: width` the run must match the run
 // whose diffusion_scale is the same formula of position (the cells lie on the file's triangles,
-// where the interpolated field is the formula up to round-off), and differ from constant rates.
+// where the interpolated field is the formula up to round-off), and differ from constant rates;
+// an initiator `region: width > 1.3` freezes the same cells as the formula does.
 // A missing array is refused with exit code 2, naming the file and the arrays it has.
 #include "geom/generators.hpp"
 #include "support/run_command.hpp"
@@ -44,22 +45,24 @@ fs::path write_sphere_with_width(const fs::path& path) {
   return path;
 }
 
-/// Runs a 300-step spot system on the sphere file with the given diffusion settings.
+/// Runs a 300-step spot system on the sphere file with the given diffusion settings; `region`
+/// selects initiator cells holding b = 8.
 test::CommandOutcome run(const fs::path& dir, const std::string& name, const fs::path& mesh,
-                         const std::string& diffusion_lines) {
+                         const std::string& diffusion_lines, const std::string& region = "x > 3") {
   const fs::path config = dir / (name + ".yaml");
   std::ofstream(config) << "pipeline: turk_rd\nseed: 5\noutput: {dir: " << (dir / name).string()
                         << ", every: 300}\nturk_rd:\n  mesh: {file: " << mesh.string()
                         << ", scale: 4}\n  cells: {count: 1200, relaxation: {iterations: 10}}\n"
                         << diffusion_lines
-                        << "  stages:\n    spots: {model: {type: turing_spots, s: 0.05}, "
-                           "steps: 300, dt: 0.5}\n";
+                        << "  stages:\n    spots:\n      model: {type: turing_spots, s: 0.05}\n"
+                        << "      steps: 300\n      dt: 0.5\n      initiators:\n"
+                        << "        band: {region: \"" << region << "\", set: {b: 8}}\n";
   return test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
 }
 
-nlohmann::json species_metrics(const fs::path& out) {
+nlohmann::json stage_metrics(const fs::path& out) {
   std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in)["metrics"]["stages"]["spots"]["species"];
+  return nlohmann::json::parse(in)["metrics"]["stages"]["spots"];
 }
 
 TEST(TurkRdMeshFields, DiffusionScaleFromAPointArrayMatchesTheSameFormulaOfPosition) {
@@ -74,8 +77,13 @@ TEST(TurkRdMeshFields, DiffusionScaleFromAPointArrayMatchesTheSameFormulaOfPosit
   for (const auto* outcome : {&field, &formula, &constant})
     ASSERT_EQ(outcome->exit_code, 0) << outcome->output;
 
-  const auto a = species_metrics(dir / "field"), b = species_metrics(dir / "formula"),
-             c = species_metrics(dir / "constant");
+  // The initiator region from the array selects the same cells as the formula.
+  const auto frozen = stage_metrics(dir / "field")["frozen_cells_rank0"].get<int>();
+  EXPECT_GT(frozen, 10);
+  EXPECT_EQ(frozen, stage_metrics(dir / "formula")["frozen_cells_rank0"].get<int>());
+  const auto a = stage_metrics(dir / "field")["species"],
+             b = stage_metrics(dir / "formula")["species"],
+             c = stage_metrics(dir / "constant")["species"];
   double differs_from_constant = 0;
   for (const char* species : {"a", "b"})
     for (const char* key : {"min", "max", "final_integral"}) {
