@@ -1,12 +1,8 @@
 #include "geom/distributed_mesh.hpp"
 
 #include "core/error.hpp"
+#include "par/graph_partition.hpp"
 #include "par/morton_partition.hpp"
-#include "par/petsc_handle.hpp"
-#include "par/petsc_session.hpp"
-
-#include <petscmat.h>
-#include <scotch/scotch.h>
 
 #include <algorithm>
 #include <numeric>
@@ -26,54 +22,10 @@ std::vector<int> morton_parts(const TriangleMesh& mesh, int parts) {
   return par::morton_partition(points_of(mesh), parts);
 }
 
-// PT-Scotch through PETSc: each rank describes a block of rows of the vertex graph, PETSc returns
-// the part of each of its rows, and the parts are gathered so every rank knows all of them.
-std::vector<int> ptscotch_parts(const par::Comm& comm, const TriangleMesh& mesh) {
+std::vector<int> scotch_parts(const par::Comm& comm, const TriangleMesh& mesh) {
   const MeshTopology topology(mesh);
   const auto& neighbors = topology.vertex_neighbors();
-  const PetscInt n = mesh.num_vertices();
-  const PetscInt first = PetscInt(std::int64_t(n) * comm.rank / comm.size);
-  const PetscInt last = PetscInt(std::int64_t(n) * (comm.rank + 1) / comm.size);
-  // MatCreateMPIAdj takes ownership of ia/ja, which must come from PetscMalloc.
-  PetscInt* ia = nullptr;
-  PetscInt* ja = nullptr;
-  const PetscInt entries = PetscInt(neighbors.offsets[last] - neighbors.offsets[first]);
-  TEXSIM_PETSC_CALL(PetscMalloc1(last - first + 1, &ia));
-  TEXSIM_PETSC_CALL(PetscMalloc1(std::max<PetscInt>(entries, 1), &ja));
-  ia[0] = 0;
-  for (PetscInt v = first; v < last; ++v) {
-    const auto row = neighbors.row(v);
-    std::copy(row.begin(), row.end(), ja + ia[v - first]);
-    ia[v - first + 1] = ia[v - first] + PetscInt(row.size());
-  }
-  par::PetscMat adjacency;
-  TEXSIM_PETSC_CALL(
-      MatCreateMPIAdj(comm.raw, last - first, n, ia, ja, nullptr, adjacency.address()));
-  // Scotch seeds its random generator from the clock unless told otherwise: a fixed seed makes
-  // the partition, and so the run, the same every time.
-  SCOTCH_randomSeed(1);
-  SCOTCH_randomReset();
-  par::PetscMatPartitioning partitioning;
-  TEXSIM_PETSC_CALL(MatPartitioningCreate(comm.raw, partitioning.address()));
-  TEXSIM_PETSC_CALL(MatPartitioningSetAdjacency(partitioning, adjacency));
-  TEXSIM_PETSC_CALL(MatPartitioningSetType(partitioning, MATPARTITIONINGPTSCOTCH));
-  TEXSIM_PETSC_CALL(MatPartitioningSetNParts(partitioning, comm.size));
-  par::PetscIs local_parts;
-  TEXSIM_PETSC_CALL(MatPartitioningApply(partitioning, local_parts.address()));
-
-  const PetscInt* values = nullptr;
-  TEXSIM_PETSC_CALL(ISGetIndices(local_parts, &values));
-  std::vector<int> mine(values, values + (last - first));
-  TEXSIM_PETSC_CALL(ISRestoreIndices(local_parts, &values));
-  std::vector<int> counts(comm.size), displacements(comm.size);
-  for (int r = 0; r < comm.size; ++r) {
-    displacements[r] = int(std::int64_t(n) * r / comm.size);
-    counts[r] = int(std::int64_t(n) * (r + 1) / comm.size) - displacements[r];
-  }
-  std::vector<int> parts(n);
-  MPI_Allgatherv(mine.data(), int(mine.size()), MPI_INT, parts.data(), counts.data(),
-                 displacements.data(), MPI_INT, comm.raw);
-  return parts;
+  return par::scotch_graph_partition(comm, neighbors.offsets, neighbors.indices, comm.size);
 }
 
 } // namespace
@@ -85,7 +37,7 @@ DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& mesh
   std::vector<int> parts(n, 0);
   if (comm.size > 1)
     parts = method == PartitionMethod::kMorton ? morton_parts(mesh, comm.size)
-                                               : ptscotch_parts(comm, mesh);
+                                               : scotch_parts(comm, mesh);
 
   // Global order: by owning rank, so each rank's range is contiguous, then along a Morton curve
   // so neighbours sit close in memory (measured on a level-7 icosphere: ICC-preconditioned CG

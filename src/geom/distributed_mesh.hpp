@@ -17,8 +17,9 @@
 namespace texsim::geom {
 
 /// How vertices are split across ranks: along a Morton curve of their positions (fast, balanced
-/// counts) or by PT-Scotch on the vertex graph through PETSc MatPartitioning (smaller edge cut).
-enum class PartitionMethod { kMorton, kPtScotch };
+/// counts) or by Scotch on the vertex graph (smaller edge cut); both are pure functions of the
+/// mesh and the rank count.
+enum class PartitionMethod { kMorton, kScotch };
 
 struct PartitionQuality {
   std::int64_t edge_cut = 0;   ///< edges whose vertices are owned by different ranks

@@ -16,7 +16,11 @@ par::Hdf5Handle mpio_access_list(const par::Comm& comm, const std::filesystem::p
 par::Hdf5Handle create_parallel_file(const par::Comm& comm, const std::filesystem::path& path) {
   par::silence_hdf5_error_printing();
   const par::Hdf5Handle access = mpio_access_list(comm, path);
-  return {TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()),
+  // The root group without creation/modification times: the same contents, the same bytes.
+  const par::Hdf5Handle creation(TEXSIM_HDF5_CALL(H5Pcreate(H5P_FILE_CREATE), path.string()),
+                                 H5Pclose);
+  TEXSIM_HDF5_CALL(H5Pset_obj_track_times(creation.get(), false), path.string());
+  return {TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation.get(), access.get()),
                            path.string()),
           H5Fclose};
 }

@@ -27,7 +27,7 @@ double radius_std(const geom::TriangleMesh& mesh) {
 geom::TriangleMesh smooth(const geom::TriangleMesh& surface, const SmoothingOptions& options,
                           int steps) {
   const par::Comm comm = par::world();
-  geom::DistributedMesh mesh(comm, surface, geom::PartitionMethod::kPtScotch);
+  geom::DistributedMesh mesh(comm, surface, geom::PartitionMethod::kScotch);
   GeometrySmoother smoother(comm, mesh, options);
   for (int n = 0; n < steps; ++n)
     smoother.step();

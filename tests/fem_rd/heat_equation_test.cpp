@@ -60,7 +60,7 @@ TEST(HeatEquation, HarmonicDecaysAsExpMinusSixTAtSecondOrder) {
 TEST(HeatEquation, PureDiffusionConservesTheIntegral) {
   const par::Comm comm = par::world();
   const auto surface = geom::noisy(geom::icosphere(4), 0.02, 3);
-  const geom::DistributedMesh mesh(comm, surface, geom::PartitionMethod::kPtScotch);
+  const geom::DistributedMesh mesh(comm, surface, geom::PartitionMethod::kScotch);
   const test::HeatModel model(
       [](double x, double y, double z) { return std::sin(3 * x) + y * y * z + 2.0; });
   ReactionDiffusionSolver solver(comm, mesh, model, {0.01, false, 1e-13});

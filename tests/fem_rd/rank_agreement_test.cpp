@@ -50,7 +50,7 @@ TEST_P(RankAgreement, DistributedEqualsSerialToSolverTolerance) {
 
 INSTANTIATE_TEST_SUITE_P(Partitions, RankAgreement,
                          ::testing::Values(geom::PartitionMethod::kMorton,
-                                           geom::PartitionMethod::kPtScotch));
+                                           geom::PartitionMethod::kScotch));
 
 } // namespace
 } // namespace texsim::pipelines::fem_rd

@@ -40,14 +40,14 @@ fs::path checkpoint_path(const fs::path& out, std::int64_t step) {
 
 /// smoke.yaml with the smoothing running through step 29 and the RD matrices rebuilt every 7
 /// steps, so that the middle checkpoint falls inside the smoothing and between two rebuilds: the
-/// restart must restore both the surface and the one the matrices were built on. The Morton
-/// partition: PT-Scotch (the default) may partition the same mesh differently in two runs at the
-/// same rank count, and then two runs agree to solver tolerance only, not bit for bit.
+/// restart must restore both the surface and the one the matrices were built on. The default
+/// (Scotch) partition is a pure function of the mesh and the rank count, so the runs agree bit
+/// for bit.
 test::CommandOutcome run_smoke(int ranks, const fs::path& out, const std::string& options = "") {
   return test::run_command(test::texsim_under_mpirun(ranks) + " " +
                            (test::source_dir() / "config/fem_rd/smoke.yaml").string() +
                            " --set fem_rd.time.steps=40 --set checkpoint.every=20"
-                           " --set fem_rd.partition=morton --set fem_rd.smoothing.steps=30"
+                           " --set fem_rd.smoothing.steps=30"
                            " --set fem_rd.smoothing.rebuild_every=7 --set output.dir=" +
                            out.string() + " " + options);
 }

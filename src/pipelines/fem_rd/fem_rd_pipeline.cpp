@@ -62,7 +62,7 @@ void FemRdPipeline::run(RunContext& ctx) {
     report.metric("triangles", surface.num_triangles());
     report.metric(
         "partition",
-        {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "ptscotch"},
+        {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "scotch"},
          {"edge_cut", quality.edge_cut},
          {"imbalance", quality.imbalance},
          {"ghosts_max", quality.ghosts_max}});

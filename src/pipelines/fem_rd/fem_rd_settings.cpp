@@ -7,7 +7,7 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
   settings.mesh = geom::read_mesh_source(section.section("mesh"));
   settings.partition = section.choice<geom::PartitionMethod>(
       "partition", settings.partition,
-      {{"ptscotch", geom::PartitionMethod::kPtScotch}, {"morton", geom::PartitionMethod::kMorton}});
+      {{"scotch", geom::PartitionMethod::kScotch}, {"morton", geom::PartitionMethod::kMorton}});
 
   const auto time = section.section("time");
   settings.steps = time.get<int>("steps", settings.steps, non_negative_int());

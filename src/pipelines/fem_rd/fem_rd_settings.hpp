@@ -9,9 +9,9 @@
 namespace texsim::pipelines::fem_rd {
 
 struct FemRdSettings {
-  geom::MeshSource mesh;                                              ///< fem_rd.mesh
-  geom::PartitionMethod partition = geom::PartitionMethod::kPtScotch; ///< fem_rd.partition
-  int steps = 1000;                                                   ///< fem_rd.time.steps
+  geom::MeshSource mesh;                                            ///< fem_rd.mesh
+  geom::PartitionMethod partition = geom::PartitionMethod::kScotch; ///< fem_rd.partition
+  int steps = 1000;                                                 ///< fem_rd.time.steps
   RdOptions rd; ///< fem_rd.time.dt, fem_rd.mass, fem_rd.solver.rtol
   bool smoothing = false;
   bool smooth_functions = false; ///< fem_rd.smoothing.functions: also smooth every species    ///<
