@@ -6,6 +6,7 @@
 #include "app/summary_writer.hpp"
 #include "core/log.hpp"
 #include "core/stage_timers.hpp"
+#include "core/stop_signal.hpp"
 #include "par/collective.hpp"
 #include "par/petsc_session.hpp"
 #include "texsim/version.hpp"
@@ -162,6 +163,8 @@ int main(int argc, char** argv) {
     par::PetscSession session(petsc_argc, petsc_argv_data);
     const par::Comm comm = par::world();
     log::init(comm.rank, line.quiet);
+    // After PETSc's initialisation, which installs handlers of its own.
+    install_stop_signal_handlers();
     try {
       if (!usage_error.empty())
         throw InputError(usage_error);
@@ -174,6 +177,11 @@ int main(int argc, char** argv) {
       } else {
         exit_code = app::execute(comm, line);
       }
+    } catch (const CheckpointedStop& stop) {
+      // Thrown on every rank after the checkpoint was written collectively.
+      exit_code = kExitCheckpointed;
+      if (comm.is_root())
+        std::cerr << "texsim: stopped: " << stop.what() << std::endl;
     } catch (const Error& e) {
       exit_code = dynamic_cast<const InputError*>(&e) ? 2 : 1;
       if (!e.on_all_ranks()) {

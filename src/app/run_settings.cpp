@@ -19,6 +19,8 @@ CommonConfig read_common_config(const ConfigSection& root) {
   const auto checkpoint = root.section("checkpoint");
   config.run.checkpoint_every = checkpoint.get<int>("every", 0, non_negative_int());
   config.run.checkpoint_keep = checkpoint.get<int>("keep", 3, positive_int());
+  if (checkpoint.has("minutes"))
+    config.run.checkpoint_minutes = checkpoint.get<double>("minutes", 0.0, non_negative());
 
   config.petsc = root.string_map("petsc");
   return config;

@@ -19,10 +19,13 @@ namespace texsim::pipelines {
 
 /// Keys every config has besides the pipeline's own section (read by app/run_settings.cpp).
 struct RunSettings {
-  std::filesystem::path output_dir;   ///< output.dir: everything the run writes goes here
-  int output_every = 1;               ///< output.every: steps between ParaView frames
-  int checkpoint_every = 0;           ///< checkpoint.every: steps between checkpoints (0 = never)
-  int checkpoint_keep = 3;            ///< checkpoint.keep: how many recent checkpoints to keep
+  std::filesystem::path output_dir; ///< output.dir: everything the run writes goes here
+  int output_every = 1;             ///< output.every: steps between ParaView frames
+  int checkpoint_every = 0;         ///< checkpoint.every: steps between checkpoints (0 = never)
+  int checkpoint_keep = 3;          ///< checkpoint.keep: how many recent checkpoints to keep
+  /// checkpoint.minutes: wall time between checkpoints (0 = never); unset: 30 on several nodes,
+  /// 60 on one (par::default_checkpoint_minutes)
+  std::optional<double> checkpoint_minutes;
   std::uint64_t seed = 1;             ///< seed: key of every counter-based random stream
   std::optional<std::string> restart; ///< --restart: "latest" or a checkpoint path
   std::string config_hash;            ///< ConfigDocument::result_hash(), stored in checkpoints

@@ -20,9 +20,39 @@ CommandOutcome
 run_command(const std::string& command,
             const std::filesystem::path& working_dir = std::filesystem::current_path());
 
-/// "<mpiexec> --allow-run-as-root --oversubscribe -n <ranks> <texsim binary>": the start of a
-/// command line running texsim on `ranks` processes.
-std::string texsim_under_mpirun(int ranks);
+/// "<mpiexec> --allow-run-as-root --oversubscribe [mpirun_options] -n <ranks> <texsim binary>":
+/// the start of a command line running texsim on `ranks` processes.
+std::string texsim_under_mpirun(int ranks, const std::string& mpirun_options = "");
+
+/// A command started in the background (same clean environment as run_command), so a test can
+/// watch its output and send it signals as a scheduler would. The shell execs the command, so
+/// signals reach it (e.g. mpirun) directly; it leads a process group of its own, which holds
+/// mpirun's ranks too. Not collective.
+class BackgroundCommand {
+public:
+  explicit BackgroundCommand(const std::string& command, const std::filesystem::path& working_dir =
+                                                             std::filesystem::current_path());
+  ~BackgroundCommand(); ///< kills the command if it still runs
+  BackgroundCommand(const BackgroundCommand&) = delete;
+  BackgroundCommand& operator=(const BackgroundCommand&) = delete;
+
+  /// Reads output until a line contains `text`; false if the command ended first.
+  bool wait_for_output(const std::string& text);
+  /// To the command alone (mpirun decides what its ranks get).
+  void signal_command(int signal_number);
+  /// To the command's child processes (mpirun's ranks, as Slurm and PBS signal a job's tasks).
+  void signal_children(int signal_number);
+  /// To every process of its group (mpirun and its ranks, as a job's SIGKILL does).
+  void signal_group(int signal_number);
+  /// Reads the rest of the output and waits for the command to end.
+  CommandOutcome finish();
+
+private:
+  int pid_ = -1;
+  int output_fd_ = -1;
+  CommandOutcome outcome_;
+  std::size_t scanned_ = 0; ///< output already searched by wait_for_output
+};
 
 /// The texsim binary alone (a single process without mpirun).
 std::string texsim_command();

@@ -2,9 +2,11 @@
 
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "core/stop_signal.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/surface_roughness.hpp"
 #include "io/pvd_series.hpp"
+#include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "pipelines/fem_rd/frame_writer.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
@@ -117,6 +119,7 @@ void FemRdPipeline::run(RunContext& ctx) {
   log::info(log::cat("fem_rd: ", settings_.steps - start, " steps of dt ", settings_.rd.dt,
                      ", species ", solver.species_count(), ", solver ",
                      solver.solver_description()));
+  par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
   Progress progress("fem_rd", settings_.steps, "steps");
   for (std::int64_t step = start; step < settings_.steps; ++step) {
     if (smooths_at(settings_, step)) {
@@ -143,10 +146,13 @@ void FemRdPipeline::run(RunContext& ctx) {
     const std::int64_t done = step + 1;
     if (done % run.output_every == 0 || done == settings_.steps)
       write_output(done);
-    if (run.checkpoint_every > 0 && done % run.checkpoint_every == 0) {
+    const auto decision = clock.after_step(done);
+    if (decision.checkpoint) {
       auto stage = ctx.timers.scope("checkpoint");
       save_state(store, done, *mesh, solver, geometry);
     }
+    if (decision.stop)
+      throw CheckpointedStop(decision.signal_number, done, "after step " + std::to_string(done));
     progress.update(done);
   }
   progress.finish();

@@ -252,8 +252,9 @@ CoordinateSlab PyramidSynthesizer::first_level(LevelStats& stats) const {
   return slab;
 }
 
-CoordinateSlab PyramidSynthesizer::next_level(const CoordinateSlab& parent,
-                                              LevelStats& stats) const {
+std::optional<CoordinateSlab> PyramidSynthesizer::next_level(const CoordinateSlab& parent,
+                                                             LevelStats& stats,
+                                                             const StopCheck& stop) const {
   const int level = level_of(parent) + 1;
   TEXSIM_VERIFY(level <= options_.levels, "no level after the finest");
   const LevelLayout layout = level_layout(level, comm_.rank, comm_.size);
@@ -273,7 +274,8 @@ CoordinateSlab PyramidSynthesizer::next_level(const CoordinateSlab& parent,
         slab.at(i, j, k) = wrapped(parent.at(i >> 1, j >> 1, k >> 1) + offset);
       }
   jitter(slab, level);
-  correct(slab, level, jacobians, stats);
+  if (!correct(slab, level, jacobians, stats, stop))
+    return std::nullopt;
   return slab;
 }
 
@@ -302,15 +304,15 @@ void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
       }
 }
 
-void PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
-                                 const std::optional<LevelJacobians>& jacobians,
-                                 LevelStats& stats) const {
+bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
+                                 const std::optional<LevelJacobians>& jacobians, LevelStats& stats,
+                                 const StopCheck& stop) const {
   const int s = stack_level(level);
   const int h = spacing(level);
   stats = LevelStats{level, h, s, false, 0.0};
   const SimilaritySets* sets = exemplar_.sets[s];
   if (!sets || options_.correction_passes == 0)
-    return;
+    return true;
   stats.corrected = true;
   const ExemplarLevelView exemplar(*exemplar_.features[s], *sets);
   const LevelLayout& layout = slab.layout();
@@ -330,6 +332,8 @@ void PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
       const int cx = subpass & 1, cy = (subpass >> 1) & 1, cz = (subpass >> 2) & 1;
       if (n < 2 && subpass != 0)
         continue;
+      if (stop && stop())
+        return false;
       slab.exchange_halo(comm_);
       const int first_k = layout.z_begin + ((layout.z_begin & 1) != cz ? 1 : 0);
       const int class_planes = first_k < layout.z_end ? (layout.z_end - first_k + 1) / 2 : 0;
@@ -369,6 +373,7 @@ void PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   double total = 0.0;
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_.raw);
   stats.mean_match_distance = total / (double(n) * n * n);
+  return true;
 }
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -14,6 +14,7 @@
 #include "vol/channel_grid.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -54,8 +55,14 @@ public:
 
   /// Level 0: a single voxel at exemplar coordinate 0, jittered. Collective.
   CoordinateSlab first_level(LevelStats& stats) const;
-  /// The level after `parent`: upsampling, jitter and correction. Collective.
-  CoordinateSlab next_level(const CoordinateSlab& parent, LevelStats& stats) const;
+  /// Asked before each correction subpass; must give the same answer on every rank (it is called
+  /// collectively). True abandons the level.
+  using StopCheck = std::function<bool()>;
+
+  /// The level after `parent`: upsampling, jitter and correction; nullopt when `stop` abandoned
+  /// it. Collective.
+  std::optional<CoordinateSlab> next_level(const CoordinateSlab& parent, LevelStats& stats,
+                                           const StopCheck& stop = {}) const;
 
   /// h_l = 2^(L - l).
   int spacing(int level) const { return 1 << (options_.levels - level); }
@@ -67,8 +74,9 @@ private:
   void jitter(CoordinateSlab& slab, int level) const;
   /// A_l and A_l^-1 over the slab's planes; none for isometric synthesis.
   std::optional<LevelJacobians> level_jacobians(const LevelLayout& layout) const;
-  void correct(CoordinateSlab& slab, int level, const std::optional<LevelJacobians>& jacobians,
-               LevelStats& stats) const;
+  /// False when `stop` abandoned the correction between subpasses.
+  bool correct(CoordinateSlab& slab, int level, const std::optional<LevelJacobians>& jacobians,
+               LevelStats& stats, const StopCheck& stop = {}) const;
   Coord wrapped(const Coord& c) const;
 
   par::Comm comm_;

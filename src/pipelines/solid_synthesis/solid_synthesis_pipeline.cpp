@@ -2,7 +2,9 @@
 
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "core/stop_signal.hpp"
 #include "io/checkpoint_store.hpp"
+#include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "pipelines/solid_synthesis/appearance_space_cache.hpp"
 #include "pipelines/solid_synthesis/level_checkpoint.hpp"
@@ -143,22 +145,39 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       log::info(log::cat("restarted from ", found.reader.path().string(), " after level ",
                          level_of(*slab)));
     }
+    par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
+    int stop_signal = 0;
+    const auto stop_requested = [&] { return (stop_signal = clock.agreed_stop_signal()) != 0; };
     Progress progress("solid_synthesis", pyramid_levels + 1, "levels");
     for (int level = slab ? level_of(*slab) + 1 : 0; level <= pyramid_levels; ++level) {
       LevelStats stats;
-      slab = std::make_unique<CoordinateSlab>(level == 0 ? synthesizer.first_level(stats)
-                                                         : synthesizer.next_level(*slab, stats));
+      if (level == 0) {
+        slab = std::make_unique<CoordinateSlab>(synthesizer.first_level(stats));
+      } else {
+        auto next = synthesizer.next_level(*slab, stats, stop_requested);
+        if (!next) {
+          // Stopped inside a level: the finished level before it is what a restart needs.
+          auto checkpoint = ctx.timers.scope("checkpoint");
+          save_level(comm, store, *slab, exemplar.content_hash);
+          throw CheckpointedStop(stop_signal, level - 1,
+                                 log::cat("after level ", level - 1, " (level ", level,
+                                          " was stopped between correction subpasses)"));
+        }
+        slab = std::make_unique<CoordinateSlab>(std::move(*next));
+      }
       levels.push_back(level_json(stats));
       log::info(log::cat("level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
                          stats.corrected ? ", corrected" : ", not corrected",
                          stats.corrected
                              ? log::cat(", mean match distance ", stats.mean_match_distance)
                              : std::string()));
-      if (run.checkpoint_every > 0 &&
-          (level % run.checkpoint_every == 0 || level == pyramid_levels)) {
+      const auto decision = clock.after_step(level);
+      if (decision.checkpoint || (run.checkpoint_every > 0 && level == pyramid_levels)) {
         auto checkpoint = ctx.timers.scope("checkpoint");
         save_level(comm, store, *slab, exemplar.content_hash);
       }
+      if (decision.stop)
+        throw CheckpointedStop(decision.signal_number, level, log::cat("after level ", level));
       progress.update(level + 1);
     }
     progress.finish();

@@ -3,9 +3,11 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "core/stop_signal.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/surface_field_sampler.hpp"
+#include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "par/global_range.hpp"
 #include "pipelines/turk_rd/cascade_checkpoint.hpp"
@@ -285,6 +287,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
       earlier[name] = values;
   FieldMap carried = state.fields; // start values of the next stage, by plain species name
   nlohmann::json stage_metrics = nlohmann::json::object();
+  par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
   Progress progress("turk_rd", settings_.total_steps(), "steps");
 
   for (std::size_t k = state.stage; k < stages.size(); ++k) {
@@ -329,12 +332,16 @@ void TurkRdPipeline::run(RunContext& ctx) {
       const std::int64_t global = stage_begin[k] + done;
       if (global % run.output_every == 0 || done == stage.steps)
         write_frame(done);
-      if (run.checkpoint_every > 0 && global % run.checkpoint_every == 0) {
+      const auto decision = clock.after_step(global);
+      if (decision.checkpoint) {
         auto timer = ctx.timers.scope("checkpoint");
         CascadeState now{k, done, stage_run.species_fields()};
         now.fields.insert(earlier.begin(), earlier.end());
         save_cascade(store, global, cells, now);
       }
+      if (decision.stop)
+        throw CheckpointedStop(decision.signal_number, global,
+                               log::cat("in stage '", stage.name, "' after step ", done));
       progress.update(global);
     }
 
