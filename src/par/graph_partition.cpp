@@ -58,9 +58,12 @@ std::vector<int> partition_on_this_rank(std::span<const std::int64_t> offsets,
   TEXSIM_VERIFY(SCOTCH_contextBindGraph(&context.raw, &graph.raw, &bound.raw) == 0,
                 "SCOTCH_contextBindGraph failed");
 
+  // Scotch's default strategy with at most 1% more vertices than the mean on a part. Measured on
+  // the bunny (37,706 vertices) for 2, 3 and 8 parts: 383, 579 and 1413 cut edges, against 434,
+  // 579 and 1450 for SCOTCH_STRATQUALITY and 384 to 424 for PT-Scotch at 2 parts.
   ScotchStrategy strategy;
-  constexpr double kImbalance = 0.01; // at most 1% more vertices than the mean on any part
-  TEXSIM_VERIFY(SCOTCH_stratGraphMapBuild(&strategy.raw, SCOTCH_STRATQUALITY, SCOTCH_Num(parts),
+  constexpr double kImbalance = 0.01;
+  TEXSIM_VERIFY(SCOTCH_stratGraphMapBuild(&strategy.raw, SCOTCH_STRATDEFAULT, SCOTCH_Num(parts),
                                           kImbalance) == 0,
                 "SCOTCH_stratGraphMapBuild failed");
   std::vector<SCOTCH_Num> part(std::size_t(vertices), 0);

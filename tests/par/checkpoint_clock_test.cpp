@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <csignal>
+#include <thread>
 
 namespace texsim::par {
 namespace {
@@ -20,9 +22,12 @@ TEST(CheckpointClock, StepCadenceWithoutWallClock) {
 }
 
 TEST(CheckpointClock, WallClockCadence) {
-  // A cadence of 1 microsecond: every step is due.
-  CheckpointClock clock(world(), 0, 1e-6 / 60.0);
-  EXPECT_TRUE(clock.after_step(1).checkpoint);
+  // A cadence of 1 ms and steps of 5 ms: every step is due, and only rank 0's clock decides.
+  CheckpointClock clock(world(), 0, 1e-3 / 60.0);
+  for (std::int64_t done = 1; done <= 3; ++done) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_TRUE(clock.after_step(done).checkpoint) << done;
+  }
   CheckpointClock never(world(), 0, 0.0);
   EXPECT_FALSE(never.after_step(1).checkpoint);
 }
