@@ -54,7 +54,7 @@ SynthesisResult synthesize(const par::Comm& comm, const Prepared& prepared, int 
   LevelStats stats;
   CoordinateSlab slab = synthesizer.first_level(stats);
   for (int level = 1; level <= levels; ++level)
-    slab = synthesizer.next_level(slab, stats);
+    slab = *synthesizer.next_level(slab, stats); // no stop check: always a level
   const int n = 1 << levels;
   return gather_result(comm, slab, {n, n, n}, prepared.space.colours);
 }
