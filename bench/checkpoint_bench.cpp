@@ -4,6 +4,7 @@
 // Prints one JSON object with medians over --repeats runs.
 // Sample run: mpirun -n 2 build/release/bench/checkpoint_bench --mb 256 --repeats 5 --dir /tmp/b
 #include "bench_timing.hpp"
+#include "core/log.hpp"
 #include "io/checkpoint_store.hpp"
 #include "par/petsc_session.hpp"
 
@@ -27,6 +28,7 @@ using texsim::bench::timed;
 int main(int argc, char** argv) {
   texsim::par::PetscSession session(argc, argv);
   const Comm comm = texsim::par::world();
+  texsim::log::init(comm.rank, /*quiet=*/true); // stdout holds the JSON only
   double megabytes = 256;
   int repeats = 5;
   std::filesystem::path dir = "/tmp/texsim_checkpoint_bench";

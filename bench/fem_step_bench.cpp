@@ -11,6 +11,7 @@
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/fem_step_bench --level 7 --repeats 5
 #include "bench_timing.hpp"
 #include "core/config.hpp"
+#include "core/log.hpp"
 #include "geom/distributed_mesh.hpp"
 #include "geom/generators.hpp"
 #include "par/cg_solver.hpp"
@@ -487,6 +488,7 @@ BenchSettings parse_arguments(int argc, char** argv) {
 int main(int argc, char** argv) {
   texsim::par::PetscSession session(argc, argv);
   const Comm comm = texsim::par::world();
+  texsim::log::init(comm.rank, /*quiet=*/true); // stdout holds the JSON only
   const BenchSettings settings = parse_arguments(argc, argv);
   TEXSIM_PETSC_CALL(PetscLogDefaultBegin());
 

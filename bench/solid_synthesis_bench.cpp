@@ -7,6 +7,7 @@
 // Sample run:
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/solid_synthesis_bench --repeats 3
 #include "bench_timing.hpp"
+#include "core/log.hpp"
 #include "par/petsc_session.hpp"
 #include "pipelines/solid_synthesis/appearance_space.hpp"
 #include "pipelines/solid_synthesis/pyramid_synthesizer.hpp"
@@ -65,6 +66,7 @@ int levels_for(int size) {
 int main(int argc, char** argv) {
   texsim::par::PetscSession session(argc, argv);
   const Comm comm = texsim::par::world();
+  texsim::log::init(comm.rank, /*quiet=*/true); // stdout holds the JSON only
   const BenchSettings settings = parse_arguments(argc, argv);
   const auto exemplar =
       texsim::vol::to_channels(texsim::vol::marble_exemplar(settings.exemplar, 1));

@@ -42,7 +42,7 @@ bool everything_but_the_summary(const std::string& file) {
   return file != "summary.json";
 }
 
-class FemRdSameBytes : public ::testing::TestWithParam<int> {
+class FemRdSameBytesOnRealData : public ::testing::TestWithParam<int> {
 protected:
   void SetUp() override {
     if (!fs::exists(kSource / "data/meshes/bunny00.off"))
@@ -50,7 +50,7 @@ protected:
   }
 };
 
-TEST_P(FemRdSameBytes, TwoRunsWriteTheSameBytes) {
+TEST_P(FemRdSameBytesOnRealData, TwoRunsWriteTheSameBytes) {
   const int ranks = GetParam();
   const auto dir = scratch(std::to_string(ranks) + "_ranks");
   for (const char* run : {"a", "b"}) {
@@ -64,9 +64,9 @@ TEST_P(FemRdSameBytes, TwoRunsWriteTheSameBytes) {
             std::vector<std::string>{});
 }
 
-INSTANTIATE_TEST_SUITE_P(Ranks, FemRdSameBytes, ::testing::Values(2, 3));
+INSTANTIATE_TEST_SUITE_P(Ranks, FemRdSameBytesOnRealData, ::testing::Values(2, 3));
 
-TEST_F(FemRdSameBytes, KilledAfterACheckpointAndRestartedEndsWithTheSameBytes) {
+TEST_F(FemRdSameBytesOnRealData, KilledAfterACheckpointAndRestartedEndsWithTheSameBytes) {
   constexpr int kSteps = 30;
   const auto dir = scratch("sigkill");
   const auto whole = texsim::test::run_command(bunny_run(2, dir / "whole", kSteps), kSource);

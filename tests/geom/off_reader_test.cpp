@@ -54,7 +54,7 @@ TEST(OffReader, MalformedFilesNameFileAndLine) {
             std::string::npos);
 }
 
-TEST(OffReader, RealMalformedFilesAreRefused) {
+TEST(OffReaderOnRealData, MalformedFilesAreRefused) {
   for (const std::string name :
        {"models/invalid.off", "models/empty.off", "models/OutOfMemory.off"}) {
     const auto path = test::real_data(name);

@@ -375,7 +375,7 @@ TEST(RelaxedSurfacePoints, EvenlySpacedOnASphere) {
   check_relaxation(icosphere(4), 3000, 17);
 }
 
-TEST(RelaxedSurfacePoints, EvenlySpacedOnTheBunny) {
+TEST(RelaxedSurfacePointsOnRealData, EvenlySpacedOnTheBunny) {
   const auto path = test::real_data("meshes/bunny00.off");
   if (path.empty())
     GTEST_SKIP() << test::missing_data_message("meshes/bunny00.off");

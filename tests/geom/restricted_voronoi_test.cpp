@@ -232,7 +232,7 @@ TEST(RestrictedVoronoi, IcosphereWithRandomSeedsIsExact) {
   EXPECT_EQ(std::count(cell_area.begin(), cell_area.end(), 0.0), 0);
 }
 
-TEST(RestrictedVoronoi, BunnyWithRandomSurfaceSeedsIsExact) {
+TEST(RestrictedVoronoiOnRealData, BunnyWithRandomSurfaceSeedsIsExact) {
   const std::string name = "meshes/bunny00.off";
   const auto path = test::real_data(name);
   if (path.empty())
@@ -549,7 +549,7 @@ TEST(RestrictedVoronoi, RejectsBadArguments) {
           .empty());
 }
 
-TEST(RestrictedVoronoi, BunnyHundredThousandSeedsTimingAtOneAndTwoThreads) {
+TEST(RestrictedVoronoiOnRealData, BunnyHundredThousandSeedsTimingAtOneAndTwoThreads) {
   const std::string name = "meshes/bunny00.off";
   const auto path = test::real_data(name);
   if (path.empty())

@@ -95,7 +95,7 @@ TEST(SurfaceCells, TileTheSphereWithSymmetricCouplings) {
   expect_tiling(icosphere(3), 1200);
 }
 
-TEST(SurfaceCells, TileARealMesh) {
+TEST(SurfaceCellsOnRealData, TileARealMesh) {
   const auto path = test::real_data("meshes/bunny00.off");
   if (!std::filesystem::exists(path))
     GTEST_SKIP() << test::missing_data_message("meshes/bunny00.off");

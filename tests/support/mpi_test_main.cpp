@@ -1,6 +1,8 @@
 // GoogleTest entry point shared by every test program: MPI and PETSc are initialised once, and only
 // rank 0 prints gtest's report, so a failure on another rank still fails the program (exit code)
-// without interleaving output.
+// without interleaving output. Every rank exits with the worst outcome of all ranks, so ctest sees
+// one verdict: failed, skipped (see ctest_outcome.hpp) or passed.
+#include "ctest_outcome.hpp"
 #include "par/petsc_session.hpp"
 
 #include <gtest/gtest.h>
@@ -15,5 +17,9 @@ int main(int argc, char** argv) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
     delete listeners.Release(listeners.default_result_printer());
   }
-  return RUN_ALL_TESTS();
+  const int result = RUN_ALL_TESTS();
+  const int local = static_cast<int>(texsim::test::outcome_of_run(result));
+  int worst = local;
+  MPI_Allreduce(&local, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return texsim::test::exit_code_of(static_cast<texsim::test::Outcome>(worst));
 }

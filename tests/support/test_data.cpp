@@ -1,5 +1,6 @@
 #include "test_data.hpp"
 
+#include <gtest/gtest.h>
 #include <mpi.h>
 
 namespace texsim::test {
@@ -13,6 +14,12 @@ std::filesystem::path texsim_binary() {
 }
 
 std::filesystem::path real_data(const std::string& relative) {
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string suite = test ? test->test_suite_name() : "";
+  if (!suite.ends_with(real_data_suite_suffix))
+    ADD_FAILURE() << "data/" << relative << " is read by suite '" << suite
+                  << "': tests on real data belong in a suite named *" << real_data_suite_suffix
+                  << ", which ctest reports as skipped when data/ is absent";
   const auto path = source_dir() / "data" / relative;
   return std::filesystem::exists(path) ? path : std::filesystem::path();
 }

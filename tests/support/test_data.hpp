@@ -12,8 +12,14 @@ std::filesystem::path source_dir();
 /// The texsim executable built alongside the tests.
 std::filesystem::path texsim_binary();
 
+/// Suffix of the test suites that use real data: tests/CMakeLists.txt runs them as a ctest of their
+/// own (<program>_real_data_n<ranks>), which ctest reports as Skipped when data/ is absent while
+/// the program's other tests still count as passed.
+inline constexpr const char* real_data_suite_suffix = "OnRealData";
+
 /// data/<relative> if scripts/fetch-data has put it there, otherwise an empty path; tests call
-/// GTEST_SKIP() with the message from missing_data_message() when it is empty.
+/// GTEST_SKIP() with the message from missing_data_message() when it is empty. Only tests in a
+/// suite named *OnRealData may call it (the test fails otherwise).
 std::filesystem::path real_data(const std::string& relative);
 std::string missing_data_message(const std::string& relative);
 

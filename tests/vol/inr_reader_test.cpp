@@ -90,7 +90,7 @@ TEST(InrReader, MalformedHeadersNameTheFileAndTheField) {
             std::string::npos);
 }
 
-TEST(InrReader, RealSkullExemplar) {
+TEST(InrReaderOnRealData, SkullExemplar) {
   const auto path = texsim::test::real_data("volumes/skull_2.9.inr");
   if (path.empty()) {
     GTEST_SKIP() << texsim::test::missing_data_message("volumes/skull_2.9.inr");

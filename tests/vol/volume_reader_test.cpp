@@ -41,7 +41,7 @@ TEST(VolumeReader, UnknownExtensionIsAnInputError) {
   EXPECT_NE(message.find(".vdb"), std::string::npos);
 }
 
-TEST(VolumeReader, RealSkullAsGreyExemplar) {
+TEST(VolumeReaderOnRealData, SkullAsGreyExemplar) {
   const auto path = texsim::test::real_data("volumes/skull_2.9.inr");
   if (path.empty()) {
     GTEST_SKIP() << texsim::test::missing_data_message("volumes/skull_2.9.inr");
