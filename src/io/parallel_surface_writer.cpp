@@ -1,7 +1,7 @@
 #include "io/parallel_surface_writer.hpp"
 
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
 #include "io/vtk_surface_writer.hpp"
 #include "io/xml_escape.hpp"
 #include "par/collective.hpp"
@@ -87,7 +87,7 @@ std::filesystem::path write_parallel_surface(const par::Comm& comm,
   });
   par::run_collectively(comm, [&] {
     if (comm.is_root())
-      write_file_atomically(header_path, parallel_header(piece, basename, comm.size, format));
+      write_atomically(header_path, parallel_header(piece, basename, comm.size, format));
   });
   return header_path;
 }

@@ -1,5 +1,6 @@
 #include "io/vtk_surface_writer.hpp"
 
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
 #include "vtk/error_capture.hpp"
 
@@ -54,21 +55,24 @@ void add_fields(vtkDataSet& data, const SurfacePiece& piece) {
     data.GetCellData()->AddArray(to_vtk_array(field.name, field.components, field.values));
 }
 
-/// Configures `writer` for binary appended LZ4-compressed output, runs it, and turns a VTK
-/// error (captured instead of printed to stderr) into texsim::Error.
+/// Configures `writer` for binary appended LZ4-compressed output, runs it into a temporary file
+/// committed over `path`, and turns a VTK error (captured instead of printed to stderr) into
+/// texsim::Error naming `path`.
 void run_writer(vtkXMLWriter& writer, const std::filesystem::path& path) {
-  vtk::ErrorCapture capture;
-  capture.watch(&writer);
-  writer.SetFileName(path.c_str());
-  writer.SetDataModeToAppended();
-  writer.EncodeAppendedDataOff();
-  writer.SetHeaderTypeToUInt64();
-  writer.SetIdTypeToInt64();
-  vtkNew<vtkLZ4DataCompressor> compressor;
-  writer.SetCompressor(compressor);
-  const int ok = writer.Write();
-  TEXSIM_VERIFY(ok == 1 && writer.GetErrorCode() == 0,
-                path.string() << ": cannot write VTK file (" << capture.errors() << ")");
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    capture.watch(&writer);
+    writer.SetFileName(temporary.c_str());
+    writer.SetDataModeToAppended();
+    writer.EncodeAppendedDataOff();
+    writer.SetHeaderTypeToUInt64();
+    writer.SetIdTypeToInt64();
+    vtkNew<vtkLZ4DataCompressor> compressor;
+    writer.SetCompressor(compressor);
+    const int ok = writer.Write();
+    TEXSIM_VERIFY(ok == 1 && writer.GetErrorCode() == 0,
+                  path.string() << ": cannot write VTK file (" << capture.errors() << ")");
+  });
 }
 
 } // namespace
