@@ -14,6 +14,9 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -23,14 +26,27 @@
 namespace texsim::io {
 namespace {
 
-vtkNew<vtkDoubleArray> to_vtk_array(const std::string& name, int components,
-                                    std::span<const double> values) {
-  vtkNew<vtkDoubleArray> array;
+/// The VTK array class that stores T with T's own type: Float64, Int32 or Int64 in the file.
+template <class T> struct VtkArrayOf;
+template <> struct VtkArrayOf<double> { using type = vtkDoubleArray; };
+template <> struct VtkArrayOf<std::int32_t> { using type = vtkTypeInt32Array; };
+template <> struct VtkArrayOf<std::int64_t> { using type = vtkTypeInt64Array; };
+
+template <class T>
+vtkSmartPointer<vtkDataArray> to_vtk_array(const std::string& name, int components,
+                                           std::span<const T> values) {
+  auto array = vtkSmartPointer<typename VtkArrayOf<T>::type>::New();
   array->SetName(name.c_str());
   array->SetNumberOfComponents(components);
   array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
   std::copy(values.begin(), values.end(), array->GetPointer(0));
   return array;
+}
+
+vtkSmartPointer<vtkDataArray> to_vtk_array(const DataField& field) {
+  return std::visit(
+      [&](const auto& values) { return to_vtk_array(field.name, field.components, values); },
+      field.values);
 }
 
 vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
@@ -50,9 +66,9 @@ vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
 
 void add_fields(vtkDataSet& data, const SurfacePiece& piece) {
   for (const auto& field : piece.point_fields)
-    data.GetPointData()->AddArray(to_vtk_array(field.name, field.components, field.values));
+    data.GetPointData()->AddArray(to_vtk_array(field));
   for (const auto& field : piece.cell_fields)
-    data.GetCellData()->AddArray(to_vtk_array(field.name, field.components, field.values));
+    data.GetCellData()->AddArray(to_vtk_array(field));
 }
 
 /// Configures `writer` for binary appended LZ4-compressed output, runs it into a temporary file
@@ -87,10 +103,9 @@ void check_surface_piece(const SurfacePiece& piece) {
     TEXSIM_VERIFY(index >= 0 && index < points,
                   "surface piece: triangle index " << index << " outside [0, " << points << ")");
   const auto check = [](const DataField& field, std::size_t count, const char* what) {
-    TEXSIM_VERIFY(field.components >= 1 && field.values.size() == field.components * count,
-                  "surface piece: " << what << " field '" << field.name << "' has "
-                                    << field.values.size() << " values, expected "
-                                    << field.components << " x " << count);
+    TEXSIM_VERIFY(field.components >= 1 && field.size() == field.components * count,
+                  "surface piece: " << what << " field '" << field.name << "' has " << field.size()
+                                    << " values, expected " << field.components << " x " << count);
   };
   for (const auto& field : piece.point_fields)
     check(field, piece.point_count(), "point");

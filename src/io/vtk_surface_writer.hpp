@@ -13,9 +13,9 @@ namespace texsim::io {
 void check_surface_piece(const SurfacePiece& piece);
 
 /// Writes `piece` to `path` (its extension should match `format`) atomically (temporary name,
-/// fsync, rename; see core/atomic_output.hpp): points and arrays as Float64, connectivity as
-/// Int64. Throws texsim::Error naming the file if it cannot be written; a file already at `path`
-/// is then left as it was. Not collective.
+/// fsync, rename; see core/atomic_output.hpp): points as Float64, each field with its own type
+/// (Float64, Int32 or Int64), connectivity as Int64. Throws texsim::Error naming the file if it
+/// cannot be written; a file already at `path` is then left as it was. Not collective.
 void write_surface(const std::filesystem::path& path, const SurfacePiece& piece,
                    SurfaceFormat format);
 
