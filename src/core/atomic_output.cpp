@@ -25,15 +25,15 @@ void sync_to_disk(const std::filesystem::path& path, bool directory,
                   const std::filesystem::path& named) {
   const int flags = O_RDONLY | O_CLOEXEC | (directory ? O_DIRECTORY : 0);
   const int fd = ::open(path.c_str(), flags);
-  TEXSIM_VERIFY(fd >= 0, named.string() << ": cannot open " << (directory ? "its directory " : "")
-                                        << path.string()
-                                        << " to flush it to disk: " << errno_text(errno));
+  TEXSIM_VERIFY(fd >= 0, named.string()
+                             << ": cannot open " << (directory ? "its directory " : "")
+                             << path.string() << " to flush it to disk: " << errno_text(errno));
   const int synced = ::fsync(fd);
   const int sync_error = errno;
   ::close(fd);
-  TEXSIM_VERIFY(synced == 0 || sync_error == EINVAL,
-                named.string() << ": cannot flush " << path.string()
-                               << " to disk: " << errno_text(sync_error));
+  TEXSIM_VERIFY(synced == 0 || sync_error == EINVAL, named.string()
+                                                         << ": cannot flush " << path.string()
+                                                         << " to disk: " << errno_text(sync_error));
 }
 
 void remove_quietly(const std::filesystem::path& path) {
@@ -45,8 +45,8 @@ void remove_quietly(const std::filesystem::path& path) {
 void write_contents(const std::filesystem::path& path, std::string_view contents,
                     const std::filesystem::path& named) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  TEXSIM_VERIFY(fd >= 0, named.string() << ": cannot create " << path.string() << ": "
-                                        << errno_text(errno));
+  TEXSIM_VERIFY(fd >= 0, named.string()
+                             << ": cannot create " << path.string() << ": " << errno_text(errno));
   std::size_t done = 0;
   while (done < contents.size()) {
     const ssize_t written = ::write(fd, contents.data() + done, contents.size() - done);
@@ -80,8 +80,8 @@ std::optional<std::string> final_name_of_temporary(const std::string& file_name)
   if (marker == std::string::npos || marker == 0)
     return std::nullopt;
   const auto digits = std::string_view(file_name).substr(marker + kTemporaryMarker.size());
-  if (digits.empty() || !std::all_of(digits.begin(), digits.end(),
-                                     [](char c) { return c >= '0' && c <= '9'; }))
+  if (digits.empty() ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return std::nullopt;
   return file_name.substr(0, marker);
 }
@@ -97,8 +97,8 @@ void commit_temporary(const std::filesystem::path& temporary, const std::filesys
     remove_quietly(temporary);
     throw;
   }
-  const auto directory = path.parent_path().empty() ? std::filesystem::path(".")
-                                                    : path.parent_path();
+  const auto directory =
+      path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   sync_to_disk(directory, true, path);
 }
 
