@@ -1,9 +1,7 @@
 #include "app/summary_writer.hpp"
 
-#include "core/error.hpp"
+#include "core/atomic_output.hpp"
 #include "texsim/version.hpp"
-
-#include <fstream>
 
 namespace texsim::app {
 
@@ -24,14 +22,7 @@ void write_summary(const std::filesystem::path& output_dir, const SummaryHeader&
   summary["metrics"] = report.metrics();
   summary["outputs"] = report.outputs();
 
-  const auto path = output_dir / "summary.json";
-  const auto temporary = output_dir / ".summary.json.tmp";
-  {
-    std::ofstream out(temporary);
-    out << summary.dump(2) << "\n";
-    TEXSIM_VERIFY(out.good(), "cannot write " << temporary);
-  }
-  std::filesystem::rename(temporary, path);
+  write_atomically(output_dir / "summary.json", summary.dump(2) + "\n");
 }
 
 } // namespace texsim::app

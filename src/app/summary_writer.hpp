@@ -17,7 +17,7 @@ struct SummaryHeader {
   bool restarted = false;
 };
 
-/// Writes <output_dir>/summary.json (temporary name, then rename). Rank 0 only.
+/// Writes <output_dir>/summary.json atomically (core/atomic_output.hpp). Rank 0 only.
 void write_summary(const std::filesystem::path& output_dir, const SummaryHeader& header,
                    const StageTimers& timers, const RunReport& report);
 

@@ -1,5 +1,6 @@
 #include "img/image_io.hpp"
 
+#include "core/atomic_output.hpp"
 #include "vtk/error_capture.hpp"
 
 #include <algorithm>
@@ -177,14 +178,16 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
   }
   data->GetPointData()->SetScalars(scalars);
 
-  vtk::ErrorCapture capture;
-  vtkNew<vtkPNGWriter> writer;
-  capture.watch(writer);
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(data);
-  writer->Write();
-  TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
-                path.string() << ": cannot write PNG: " << capture.errors());
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    vtkNew<vtkPNGWriter> writer;
+    capture.watch(writer);
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(data);
+    writer->Write();
+    TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
+                  path.string() << ": cannot write PNG: " << capture.errors());
+  });
 }
 
 RgbImage quantize_8bit(const RgbImage& image) {

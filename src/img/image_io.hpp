@@ -12,8 +12,9 @@ namespace texsim::img {
 /// Throws InputError naming the file if it is missing, not a readable PNG/JPEG, or of another type.
 RgbImage read_image(const std::filesystem::path& path);
 
-/// Writes an 8-bit RGB PNG; channels are clamped to [0, 1] and rounded to the nearest of v / 255.
-/// Throws Error naming the file if it cannot be written.
+/// Writes an 8-bit RGB PNG atomically (temporary name, fsync, rename: core/atomic_output.hpp);
+/// channels are clamped to [0, 1] and rounded to the nearest of v / 255. Throws Error naming the
+/// file if it cannot be written, leaving a file already at `path` as it was.
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
 /// The value read back after write_png: each channel clamped and rounded to a multiple of 1/255.

@@ -1,5 +1,7 @@
 #include "io/checkpoint_format.hpp"
 
+#include "core/atomic_output.hpp"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -9,10 +11,6 @@ std::string checkpoint_file_name(std::int64_t step) {
   char name[64];
   std::snprintf(name, sizeof name, "step_%09lld.h5", static_cast<long long>(step));
   return name;
-}
-
-std::string temporary_checkpoint_file_name(std::int64_t step) {
-  return std::string(".").append(checkpoint_file_name(step)).append(".tmp");
 }
 
 std::optional<std::int64_t> checkpoint_step_of(const std::string& file_name) {
@@ -37,6 +35,15 @@ std::vector<std::int64_t> list_checkpoint_steps(const std::filesystem::path& dir
       steps.push_back(*step);
   std::sort(steps.begin(), steps.end());
   return steps;
+}
+
+void remove_uncommitted_checkpoints(const std::filesystem::path& directory) {
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
+    const auto final_name = final_name_of_temporary(entry.path().filename().string());
+    if (final_name && checkpoint_step_of(*final_name))
+      std::filesystem::remove(entry.path(), error);
+  }
 }
 
 } // namespace texsim::io

@@ -2,7 +2,8 @@
 /// What a texsim checkpoint file looks like on disk: its name, the attributes every checkpoint
 /// carries, and the format version this build writes and reads.
 ///
-/// <dir>/step_000000100.h5 (written as <dir>/.step_000000100.h5.tmp, renamed when complete) holds
+/// <dir>/step_000000100.h5 (written as <dir>/step_000000100.h5.tmp-<pid of rank 0>, flushed and
+/// renamed when complete, see core/atomic_output.hpp) holds
 /// one dataset per named array at the root, shape {count} or {count, components}, each with a
 /// "texsim_checksum" attribute (see checkpoint_checksum.hpp), and root attributes
 /// "texsim_format_version", "texsim_config_hash", "texsim_step" plus the caller's own.
@@ -25,14 +26,16 @@ inline constexpr const char* checksum_attribute = "texsim_checksum";
 /// "step_000000100.h5".
 std::string checkpoint_file_name(std::int64_t step);
 
-/// ".step_000000100.h5.tmp": the name a checkpoint has while it is being written.
-std::string temporary_checkpoint_file_name(std::int64_t step);
-
 /// The step of a committed checkpoint's file name, or nothing for any other name.
 std::optional<std::int64_t> checkpoint_step_of(const std::string& file_name);
 
 /// Steps of the committed checkpoints in `directory`, ascending (empty if it does not exist).
 /// Not collective: reads the directory on the calling rank.
 std::vector<std::int64_t> list_checkpoint_steps(const std::filesystem::path& directory);
+
+/// Removes the temporary files of checkpoints that were never committed (a job killed while
+/// writing one) from `directory`. Not collective: call on one rank, while no checkpoint is being
+/// written there.
+void remove_uncommitted_checkpoints(const std::filesystem::path& directory);
 
 } // namespace texsim::io

@@ -39,6 +39,7 @@ CheckpointStore::CheckpointStore(const par::Comm& comm, std::filesystem::path di
       TEXSIM_INPUT_ERROR(directory_.string()
                          << ": cannot create the checkpoint directory (" << error.message() << ")");
     refuse_other_configuration();
+    remove_uncommitted_checkpoints(directory_);
   });
 }
 

@@ -39,7 +39,8 @@ class CheckpointStore {
 public:
   /// Creates `directory` if needed. If it already holds checkpoints and the newest readable one
   /// was written with another config hash, throws InputError naming that file: a run never
-  /// overwrites another configuration's checkpoints. `keep_last` >= 1 checkpoints are kept.
+  /// overwrites another configuration's checkpoints. Removes the temporary files of
+  /// checkpoints a killed job left uncommitted. `keep_last` >= 1 checkpoints are kept.
   /// Collective; errors are raised on every rank.
   CheckpointStore(const par::Comm& comm, std::filesystem::path directory, std::string config_hash,
                   int keep_last);

@@ -1,11 +1,14 @@
 #include "io/checkpoint_writer.hpp"
 
+#include "core/atomic_output.hpp"
 #include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
 #include "par/collective.hpp"
 #include "par/hdf5_call.hpp"
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -46,13 +49,21 @@ void verify_blocks_tile(const std::string& name, std::vector<BlockDeclaration> b
                                                          << blocks.front().global_count << ")");
 }
 
+/// Rank 0's pid, on every rank: all ranks write the one temporary file that rank 0 commits.
+long rank0_process_id(const par::Comm& comm) {
+  long id = static_cast<long>(::getpid());
+  MPI_Bcast(&id, 1, MPI_LONG, 0, comm.raw);
+  return id;
+}
+
 } // namespace
 
 CheckpointWriter::CheckpointWriter(const par::Comm& comm, std::filesystem::path directory,
                                    const std::string& config_hash, std::int64_t step, int keep_last)
     : comm_(comm), directory_(std::move(directory)),
-      temporary_path_(directory_ / temporary_checkpoint_file_name(step)), step_(step),
-      keep_last_(keep_last) {
+      temporary_path_(
+          temporary_path_of(directory_ / checkpoint_file_name(step), rank0_process_id(comm))),
+      step_(step), keep_last_(keep_last) {
   par::run_collectively(comm_, [&] {
     file_ = create_parallel_file(comm_, temporary_path_);
     write_attribute(file_.get(), format_version_attribute, checkpoint_format_version,
@@ -157,15 +168,14 @@ std::filesystem::path CheckpointWriter::commit() {
   const auto final_path = directory_ / checkpoint_file_name(step_);
   par::run_collectively(comm_, [&] {
     TEXSIM_VERIFY(file_, temporary_path_.string() << ": committed twice");
+    // Every rank's writes reach the disk (MPI_File_sync) before rank 0 renames the file.
+    TEXSIM_HDF5_CALL(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), temporary_path_.string());
     TEXSIM_HDF5_CALL(file_.reset(), temporary_path_.string());
   });
   par::run_collectively(comm_, [&] {
     if (!comm_.is_root())
       return;
-    std::error_code error;
-    std::filesystem::rename(temporary_path_, final_path, error);
-    TEXSIM_VERIFY(!error, "cannot rename " << temporary_path_.string() << " to "
-                                           << final_path.string() << ": " << error.message());
+    commit_temporary(temporary_path_, final_path);
     std::vector<std::int64_t> kept;
     for (const std::int64_t step : list_checkpoint_steps(directory_)) {
       if (step > step_)

@@ -1,6 +1,7 @@
 #pragma once
 /// Writing one checkpoint: named arrays split across ranks into one HDF5 file through MPI-IO,
-/// checksummed, then renamed into place by commit(). Obtained from CheckpointStore::begin().
+/// checksummed, then flushed to disk and renamed into place by commit() (the same pattern as every
+/// other output, core/atomic_output.hpp). Obtained from CheckpointStore::begin().
 #include "io/hdf5_attribute.hpp"
 #include "io/scalar_type.hpp"
 #include "par/comm.hpp"
@@ -44,11 +45,12 @@ public:
       set_attribute(name, static_cast<std::uint64_t>(value));
   }
 
-  /// Closes the file and renames it to <dir>/step_<step>.h5 (replacing a checkpoint of the same
+  /// Flushes the file to disk (MPI_File_sync through H5Fflush), closes it, renames it to
+  /// <dir>/step_<step>.h5 and flushes the directory (replacing a checkpoint of the same
   /// step of this run). Then removes checkpoints of later steps (left by a run that was killed and
   /// restarted from an earlier one: this run rewrites them) and all but the newest keep_last.
-  /// Returns the final path. Collective. Without commit() the temporary file stays behind and is
-  /// never read.
+  /// Returns the final path. Collective. Without commit() the temporary file stays behind, is
+  /// never read, and is removed by the next CheckpointStore opened on the directory.
   std::filesystem::path commit();
 
   std::int64_t step() const { return step_; }
@@ -58,8 +60,8 @@ public:
 
 private:
   friend class CheckpointStore;
-  /// Creates <directory>/.step_<step>.h5.tmp and stores the format version, config hash and step.
-  /// Collective.
+  /// Creates <directory>/step_<step>.h5.tmp-<pid of rank 0> and stores the format version, config
+  /// hash and step. Collective.
   CheckpointWriter(const par::Comm& comm, std::filesystem::path directory,
                    const std::string& config_hash, std::int64_t step, int keep_last);
 

@@ -1,7 +1,7 @@
 #include "io/parallel_surface_writer.hpp"
 
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
 #include "io/vtk_surface_writer.hpp"
 #include "io/xml_escape.hpp"
 #include "par/collective.hpp"
@@ -16,13 +16,15 @@ std::string piece_file_name(const std::string& basename, int rank, SurfaceFormat
   return basename + "_" + std::to_string(rank) + "." + surface_extension(format);
 }
 
-/// Names and components of the fields, to check that all ranks declare the same arrays.
+/// Names, components and types of the fields, to check that all ranks declare the same arrays.
 std::string field_signature(const SurfacePiece& piece) {
   std::string signature;
   for (const auto& field : piece.point_fields)
-    signature += "p:" + field.name + ":" + std::to_string(field.components) + ";";
+    signature += "p:" + field.name + ":" + std::to_string(field.components) + ":" +
+                 field.vtk_type_name() + ";";
   for (const auto& field : piece.cell_fields)
-    signature += "c:" + field.name + ":" + std::to_string(field.components) + ";";
+    signature += "c:" + field.name + ":" + std::to_string(field.components) + ":" +
+                 field.vtk_type_name() + ";";
   return signature;
 }
 
@@ -30,8 +32,8 @@ void write_array_declarations(std::ostringstream& xml, const char* tag,
                               const std::vector<DataField>& fields) {
   xml << "    <" << tag << ">\n";
   for (const auto& field : fields)
-    xml << "      <PDataArray type=\"Float64\" Name=\"" << xml_escape(field.name)
-        << "\" NumberOfComponents=\"" << field.components << "\"/>\n";
+    xml << "      <PDataArray type=\"" << field.vtk_type_name() << "\" Name=\""
+        << xml_escape(field.name) << "\" NumberOfComponents=\"" << field.components << "\"/>\n";
   xml << "    </" << tag << ">\n";
 }
 
@@ -87,7 +89,7 @@ std::filesystem::path write_parallel_surface(const par::Comm& comm,
   });
   par::run_collectively(comm, [&] {
     if (comm.is_root())
-      write_file_atomically(header_path, parallel_header(piece, basename, comm.size, format));
+      write_atomically(header_path, parallel_header(piece, basename, comm.size, format));
   });
   return header_path;
 }

@@ -12,7 +12,8 @@ namespace texsim::io {
 
 /// Writes this rank's `piece` and, on rank 0, the header; returns the header's path (on every
 /// rank). All ranks must give the same field names and components in the same order; a piece may
-/// be empty. Existing files of the same names are replaced (the header atomically).
+/// be empty. Fields keep their types (Float64, Int32, Int64) in the pieces and the header. Every
+/// file is written atomically (core/atomic_output.hpp), replacing files of the same names.
 /// Collective: a failure on any rank (unwritable directory, inconsistent piece) is raised as the
 /// same texsim::Error on every rank.
 std::filesystem::path write_parallel_surface(const par::Comm& comm,

@@ -1,7 +1,7 @@
 #include "io/pvd_series.hpp"
 
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
 #include "io/xml_escape.hpp"
 #include "par/collective.hpp"
 
@@ -141,7 +141,7 @@ void PvdSeries::rewrite() const {
           << entry.part << "\" file=\"" << xml_escape(entry.file) << "\"/>\n";
     xml << "  </Collection>\n"
         << "</VTKFile>\n";
-    write_file_atomically(path_, xml.str());
+    write_atomically(path_, xml.str());
   });
 }
 

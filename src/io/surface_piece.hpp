@@ -4,16 +4,32 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace texsim::io {
+
+/// The values of a field: real numbers are written as Float64; ids, ranks and other integers
+/// keep their integer type (Int32 or Int64), so ParaView colours and thresholds them exactly.
+using FieldValues = std::variant<std::span<const double>, std::span<const std::int32_t>,
+                                 std::span<const std::int64_t>>;
 
 /// A named array with `components` values per point (or per cell), stored tuple after tuple.
 /// Not owned: the caller keeps the values alive while writing.
 struct DataField {
   std::string name;
   int components = 1;
-  std::span<const double> values;
+  FieldValues values;
+
+  /// Number of values (components x tuples).
+  std::size_t size() const {
+    return std::visit([](const auto& span) { return span.size(); }, values);
+  }
+  /// The VTK XML type name of the values: "Float64", "Int32" or "Int64".
+  const char* vtk_type_name() const {
+    constexpr const char* names[] = {"Float64", "Int32", "Int64"};
+    return names[values.index()];
+  }
 };
 
 /// Points and triangles of one piece. Not owned.

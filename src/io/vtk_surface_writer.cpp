@@ -1,5 +1,6 @@
 #include "io/vtk_surface_writer.hpp"
 
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
 #include "vtk/error_capture.hpp"
 
@@ -13,6 +14,9 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -22,14 +26,27 @@
 namespace texsim::io {
 namespace {
 
-vtkNew<vtkDoubleArray> to_vtk_array(const std::string& name, int components,
-                                    std::span<const double> values) {
-  vtkNew<vtkDoubleArray> array;
+/// The VTK array class that stores T with T's own type: Float64, Int32 or Int64 in the file.
+template <class T> struct VtkArrayOf;
+template <> struct VtkArrayOf<double> { using type = vtkDoubleArray; };
+template <> struct VtkArrayOf<std::int32_t> { using type = vtkTypeInt32Array; };
+template <> struct VtkArrayOf<std::int64_t> { using type = vtkTypeInt64Array; };
+
+template <class T>
+vtkSmartPointer<vtkDataArray> to_vtk_array(const std::string& name, int components,
+                                           std::span<const T> values) {
+  auto array = vtkSmartPointer<typename VtkArrayOf<T>::type>::New();
   array->SetName(name.c_str());
   array->SetNumberOfComponents(components);
   array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
   std::copy(values.begin(), values.end(), array->GetPointer(0));
   return array;
+}
+
+vtkSmartPointer<vtkDataArray> to_vtk_array(const DataField& field) {
+  return std::visit(
+      [&](const auto& values) { return to_vtk_array(field.name, field.components, values); },
+      field.values);
 }
 
 vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
@@ -49,26 +66,29 @@ vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
 
 void add_fields(vtkDataSet& data, const SurfacePiece& piece) {
   for (const auto& field : piece.point_fields)
-    data.GetPointData()->AddArray(to_vtk_array(field.name, field.components, field.values));
+    data.GetPointData()->AddArray(to_vtk_array(field));
   for (const auto& field : piece.cell_fields)
-    data.GetCellData()->AddArray(to_vtk_array(field.name, field.components, field.values));
+    data.GetCellData()->AddArray(to_vtk_array(field));
 }
 
-/// Configures `writer` for binary appended LZ4-compressed output, runs it, and turns a VTK
-/// error (captured instead of printed to stderr) into texsim::Error.
+/// Configures `writer` for binary appended LZ4-compressed output, runs it into a temporary file
+/// committed over `path`, and turns a VTK error (captured instead of printed to stderr) into
+/// texsim::Error naming `path`.
 void run_writer(vtkXMLWriter& writer, const std::filesystem::path& path) {
-  vtk::ErrorCapture capture;
-  capture.watch(&writer);
-  writer.SetFileName(path.c_str());
-  writer.SetDataModeToAppended();
-  writer.EncodeAppendedDataOff();
-  writer.SetHeaderTypeToUInt64();
-  writer.SetIdTypeToInt64();
-  vtkNew<vtkLZ4DataCompressor> compressor;
-  writer.SetCompressor(compressor);
-  const int ok = writer.Write();
-  TEXSIM_VERIFY(ok == 1 && writer.GetErrorCode() == 0,
-                path.string() << ": cannot write VTK file (" << capture.errors() << ")");
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    capture.watch(&writer);
+    writer.SetFileName(temporary.c_str());
+    writer.SetDataModeToAppended();
+    writer.EncodeAppendedDataOff();
+    writer.SetHeaderTypeToUInt64();
+    writer.SetIdTypeToInt64();
+    vtkNew<vtkLZ4DataCompressor> compressor;
+    writer.SetCompressor(compressor);
+    const int ok = writer.Write();
+    TEXSIM_VERIFY(ok == 1 && writer.GetErrorCode() == 0,
+                  path.string() << ": cannot write VTK file (" << capture.errors() << ")");
+  });
 }
 
 } // namespace
@@ -83,10 +103,9 @@ void check_surface_piece(const SurfacePiece& piece) {
     TEXSIM_VERIFY(index >= 0 && index < points,
                   "surface piece: triangle index " << index << " outside [0, " << points << ")");
   const auto check = [](const DataField& field, std::size_t count, const char* what) {
-    TEXSIM_VERIFY(field.components >= 1 && field.values.size() == field.components * count,
-                  "surface piece: " << what << " field '" << field.name << "' has "
-                                    << field.values.size() << " values, expected "
-                                    << field.components << " x " << count);
+    TEXSIM_VERIFY(field.components >= 1 && field.size() == field.components * count,
+                  "surface piece: " << what << " field '" << field.name << "' has " << field.size()
+                                    << " values, expected " << field.components << " x " << count);
   };
   for (const auto& field : piece.point_fields)
     check(field, piece.point_count(), "point");

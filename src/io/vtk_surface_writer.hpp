@@ -12,9 +12,10 @@ namespace texsim::io {
 /// multiple of 3, a triangle index out of range, a field of the wrong length). Not collective.
 void check_surface_piece(const SurfacePiece& piece);
 
-/// Writes `piece` to `path` (its extension should match `format`): points and arrays as Float64,
-/// connectivity as Int64. Throws texsim::Error naming the file if it cannot be written.
-/// Not collective.
+/// Writes `piece` to `path` (its extension should match `format`) atomically (temporary name,
+/// fsync, rename; see core/atomic_output.hpp): points as Float64, each field with its own type
+/// (Float64, Int32 or Int64), connectivity as Int64. Throws texsim::Error naming the file if it
+/// cannot be written; a file already at `path` is then left as it was. Not collective.
 void write_surface(const std::filesystem::path& path, const SurfacePiece& piece,
                    SurfaceFormat format);
 

@@ -23,8 +23,9 @@ img::RgbImage cross_section(const ChannelGrid& colours, int axis, int position);
 /// `<basename>_z<p2>.png` (XY) and `<basename>_slices.png` (the three in that order, left to
 /// right, bottom-aligned on a white background with a 4-pixel gap) into `directory`, created if
 /// missing, and returns their paths in that order. Colours are clamped to [0, 1] and written with
-/// 8 bits. Throws InputError naming the axis if a position is outside the grid, Error naming the
-/// file if a file cannot be written. Not collective: call on one rank.
+/// 8 bits; each file is written atomically (img::write_png). Throws InputError naming the axis if
+/// a position is outside the grid, Error naming the file if a file cannot be written. Not
+/// collective: call on one rank.
 std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::path& directory,
                                                         const std::string& basename,
                                                         const ChannelGrid& colours,

@@ -1,5 +1,7 @@
 #include "vol/hdf5_grid_io.hpp"
 
+#include "core/atomic_output.hpp"
+
 #include "par/hdf5_call.hpp"
 #include "par/hdf5_handle.hpp"
 
@@ -52,22 +54,28 @@ void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
   const int components = voxel_components<T>;
   const std::array<hsize_t, 4> shape{static_cast<hsize_t>(d.nz), static_cast<hsize_t>(d.ny),
                                      static_cast<hsize_t>(d.nx), 3};
-  par::Hdf5Handle file(
-      TEXSIM_HDF5_CALL(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), context),
-      H5Fclose);
-  par::Hdf5Handle space(
-      TEXSIM_HDF5_CALL(H5Screate_simple(components == 1 ? 3 : 4, shape.data(), nullptr), context),
-      H5Sclose);
-  par::Hdf5Handle data(
-      TEXSIM_HDF5_CALL(H5Dcreate2(file.get(), dataset.c_str(), H5T_IEEE_F32LE, space.get(),
-                                  H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                       context),
-      H5Dclose);
-  TEXSIM_HDF5_CALL(
-      H5Dwrite(data.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, grid.data().data()),
-      context);
-  write_vector_attribute(data.get(), "spacing", grid.spacing(), context);
-  write_vector_attribute(data.get(), "origin", grid.origin(), context);
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    par::Hdf5Handle file(
+        TEXSIM_HDF5_CALL(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                         context),
+        H5Fclose);
+    par::Hdf5Handle space(
+        TEXSIM_HDF5_CALL(H5Screate_simple(components == 1 ? 3 : 4, shape.data(), nullptr), context),
+        H5Sclose);
+    par::Hdf5Handle data(
+        TEXSIM_HDF5_CALL(H5Dcreate2(file.get(), dataset.c_str(), H5T_IEEE_F32LE, space.get(),
+                                    H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         context),
+        H5Dclose);
+    TEXSIM_HDF5_CALL(
+        H5Dwrite(data.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, grid.data().data()),
+        context);
+    write_vector_attribute(data.get(), "spacing", grid.spacing(), context);
+    write_vector_attribute(data.get(), "origin", grid.origin(), context);
+    data.reset();
+    space.reset();
+    TEXSIM_HDF5_CALL(file.reset(), context << ": closing");
+  });
 }
 
 /// Names of the datasets directly under the root group, in name order.

@@ -10,8 +10,9 @@
 
 namespace texsim::vol {
 
-/// Writes `grid` as dataset `dataset` of a new HDF5 file (replacing any file at `path`). Not
-/// collective. Throws Error naming the file and dataset if an HDF5 call fails.
+/// Writes `grid` as dataset `dataset` of a new HDF5 file, replacing any file at `path` atomically
+/// (core/atomic_output.hpp). Not collective. Throws Error naming the file and dataset if an HDF5
+/// call fails, leaving a file already at `path` as it was.
 void write_hdf5_grid(const std::filesystem::path& path, const ScalarGrid& grid,
                      const std::string& dataset);
 void write_hdf5_grid(const std::filesystem::path& path, const RgbGrid& grid,

@@ -1,5 +1,7 @@
 #include "vol/vdb_io.hpp"
 
+#include "core/atomic_output.hpp"
+
 #include <algorithm>
 #include <mutex>
 #include <sstream>
@@ -57,13 +59,15 @@ void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
   vdb->insertMeta(kDimsKey, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.nx, dims.ny, dims.nz)));
   vdb->insertMeta(kSpacingKey, openvdb::Vec3DMetadata(openvdb::Vec3d(s[0], s[1], s[2])));
   vdb->insertMeta(kOriginKey, openvdb::Vec3DMetadata(openvdb::Vec3d(o[0], o[1], o[2])));
-  try {
-    openvdb::io::File file(path.string());
-    file.write(openvdb::GridCPtrVec{vdb});
-    file.close();
-  } catch (const openvdb::Exception& e) {
-    TEXSIM_VERIFY(false, path.string() << ": cannot write OpenVDB file: " << e.what());
-  }
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    try {
+      openvdb::io::File file(temporary.string());
+      file.write(openvdb::GridCPtrVec{vdb});
+      file.close();
+    } catch (const openvdb::Exception& e) {
+      TEXSIM_VERIFY(false, path.string() << ": cannot write OpenVDB file: " << e.what());
+    }
+  });
 }
 
 template <class VdbGrid, class T>

@@ -15,8 +15,9 @@
 
 namespace texsim::vol {
 
-/// Writes `grid` as the only grid of a new .vdb file (replacing any file at `path`).
-/// Throws Error naming the file if it cannot be written.
+/// Writes `grid` as the only grid of a new .vdb file, replacing any file at `path` atomically
+/// (core/atomic_output.hpp). Throws Error naming the file if it cannot be written, leaving a file
+/// already at `path` as it was.
 void write_vdb(const std::filesystem::path& path, const ScalarGrid& grid,
                const std::string& grid_name);
 void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,

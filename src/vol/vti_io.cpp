@@ -1,5 +1,7 @@
 #include "vol/vti_io.hpp"
 
+#include "core/atomic_output.hpp"
+
 #include "vtk/error_capture.hpp"
 
 #include <sstream>
@@ -42,16 +44,18 @@ void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
   }
   image->GetPointData()->AddArray(values);
 
-  vtk::ErrorCapture capture;
-  vtkNew<vtkXMLImageDataWriter> writer;
-  capture.watch(writer);
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(image);
-  writer->SetDataModeToAppended();
-  writer->SetCompressorTypeToZLib();
-  const int ok = writer->Write();
-  TEXSIM_VERIFY(ok == 1 && !capture.has_errors(),
-                path.string() << ": cannot write VTK image data: " << capture.errors());
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    vtkNew<vtkXMLImageDataWriter> writer;
+    capture.watch(writer);
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(image);
+    writer->SetDataModeToAppended();
+    writer->SetCompressorTypeToZLib();
+    const int ok = writer->Write();
+    TEXSIM_VERIFY(ok == 1 && !capture.has_errors(),
+                  path.string() << ": cannot write VTK image data: " << capture.errors());
+  });
 }
 
 template <class T> DenseGrid<T> copy_array(vtkImageData& image, vtkDataArray& array) {

@@ -9,7 +9,8 @@
 namespace texsim::vol {
 
 /// Writes `grid` as a .vti file with one point-data array `array_name` (binary, zlib-compressed,
-/// values bit-exact). Throws Error naming the file if it cannot be written.
+/// values bit-exact), atomically (core/atomic_output.hpp). Throws Error naming the file if it
+/// cannot be written, leaving a file already at `path` as it was.
 void write_vti(const std::filesystem::path& path, const ScalarGrid& grid,
                const std::string& array_name);
 void write_vti(const std::filesystem::path& path, const RgbGrid& grid,

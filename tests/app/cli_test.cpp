@@ -1,7 +1,9 @@
 // Runs the texsim binary as a user would and checks exit codes, messages and outputs.
 #include "app/command_line.hpp"
+#include "core/atomic_output.hpp"
 #include "core/error.hpp"
 #include "support/run_command.hpp"
+#include "support/vtk_array_type.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -185,6 +187,18 @@ TEST(Cli, SmokeRunAtTwoRanksWritesSummaryAndParaViewFiles) {
     has_pvd |= fs::path(output.get<std::string>()).extension() == ".pvd";
   }
   EXPECT_TRUE(has_pvd);
+  // Every file was written under a temporary name and renamed: none is left behind.
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    EXPECT_FALSE(texsim::final_name_of_temporary(entry.path().filename().string()))
+        << "left behind: " << entry.path();
+  // Ids and ranks read back as integers, not as Float64.
+  using texsim::test::ArrayAssociation;
+  using texsim::test::vtk_array_type;
+  EXPECT_EQ(vtk_array_type(out / "surface.pvtp", ArrayAssociation::point, "global_id"),
+            VTK_TYPE_INT32);
+  EXPECT_EQ(vtk_array_type(out / "surface.pvtp", ArrayAssociation::cell, "rank"), VTK_TYPE_INT32);
+  EXPECT_EQ(vtk_array_type(out / "surface.pvtp", ArrayAssociation::point, "vertex_area"),
+            VTK_DOUBLE);
 }
 
 } // namespace

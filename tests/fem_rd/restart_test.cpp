@@ -9,6 +9,7 @@
 #include "par/comm.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
+#include "support/vtk_array_type.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -180,6 +181,21 @@ TEST_F(FemRdRestart, AtTheSameRankCountEndsBitIdentical) {
   }
   // The frame series continues where it stopped: the same entries as the uninterrupted run.
   EXPECT_EQ(read_text(b / "fem_rd.pvd"), read_text(run_a() / "fem_rd.pvd"));
+  EXPECT_TRUE(test::temporary_files_under(b).empty());
+}
+
+TEST_F(FemRdRestart, FramesHoldIntegerIdsAndNoTemporaryFileIsLeft) {
+  EXPECT_TRUE(test::temporary_files_under(run_a()).empty());
+  std::vector<fs::path> frames;
+  for (const auto& entry : fs::directory_iterator(run_a() / "frames"))
+    if (entry.path().extension() == ".pvtu")
+      frames.push_back(entry.path());
+  ASSERT_FALSE(frames.empty());
+  std::sort(frames.begin(), frames.end());
+  using test::ArrayAssociation;
+  EXPECT_EQ(test::vtk_array_type(frames.back(), ArrayAssociation::cell, "rank"), VTK_TYPE_INT32);
+  EXPECT_EQ(test::vtk_array_type(frames.back(), ArrayAssociation::point, "input_vertex_id"),
+            VTK_TYPE_INT64);
 }
 
 TEST_F(FemRdRestart, AtAnotherRankCountAgreesToSolverTolerance) {

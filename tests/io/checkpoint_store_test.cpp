@@ -1,6 +1,7 @@
 // Checkpoint store: bit-exact round trips across different splits and rank counts, checksums
 // independent of the split, refusal of corrupt, truncated and foreign checkpoints on every rank,
 // "latest" fallback, pruning and atomic commit.
+#include "core/atomic_output.hpp"
 #include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/checkpoint_store.hpp"
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -274,6 +276,37 @@ TEST(CheckpointStore, KeepsTheNewestAndLeavesNoTemporaryFile) {
   // A restarted run rewriting step 3 discards the stale later step 4.
   write_checkpoint(store, 3, comm);
   EXPECT_EQ(store.steps(), (std::vector<std::int64_t>{3}));
+  if (comm.is_root()) {
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      EXPECT_TRUE(checkpoint_step_of(entry.path().filename().string()))
+          << "unexpected file " << entry.path();
+  }
+  comm.barrier();
+}
+
+TEST(CheckpointStore, AnUncommittedCheckpointIsNeverReadAndIsRemovedByTheNextRun) {
+  const auto comm = par::world();
+  const auto dir = test::scratch_dir("ckpt_uncommitted");
+  {
+    const CheckpointStore store(comm, dir, "hash-a", 2);
+    write_checkpoint(store, 1, comm);
+    // A job killed while writing step 2: its temporary file stays, under rank 0's pid.
+    auto writer = store.begin(2);
+    write_all_types(writer, even_block(elements, comm));
+    EXPECT_EQ(store.steps(), (std::vector<std::int64_t>{1}));
+  }
+  if (comm.is_root()) {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    ASSERT_EQ(names.size(), 2u);
+    EXPECT_EQ(names[0], "step_000000001.h5");
+    EXPECT_EQ(final_name_of_temporary(names[1]), "step_000000002.h5") << names[1];
+  }
+  // The restarted job resolves step 1 and clears the leftover.
+  const CheckpointStore restarted(comm, dir, "hash-a", 2);
+  EXPECT_EQ(restarted.resolve("latest").reader.step(), 1);
   if (comm.is_root()) {
     for (const auto& entry : std::filesystem::directory_iterator(dir))
       EXPECT_TRUE(checkpoint_step_of(entry.path().filename().string()))

@@ -1,5 +1,6 @@
 // Parallel VTK output: pieces written at n ranks read back through VTK's own parallel readers
-// (as ParaView does) as one surface with every point, triangle and field value that was written.
+// (as ParaView does) as one surface with every point, triangle and field value that was written,
+// integer fields with their integer types; no temporary file is left behind.
 #include "core/error.hpp"
 #include "io/parallel_surface_writer.hpp"
 #include "io/vtk_surface_writer.hpp"
@@ -46,8 +47,9 @@ struct GridSurface {
 
 /// The triangles [first, last) of the grid as a piece with its own local point numbering.
 struct OwnedPiece {
-  std::vector<double> xyz, height, velocity, triangle_id;
-  std::vector<std::int64_t> triangles;
+  std::vector<double> xyz, height, velocity;
+  std::vector<std::int64_t> triangles, point_id, triangle_id;
+  std::vector<std::int32_t> rank;
 
   OwnedPiece(int first, int last) {
     std::map<int, std::int64_t> local;
@@ -59,18 +61,20 @@ struct OwnedPiece {
           xyz.insert(xyz.end(), pos.begin(), pos.end());
           height.push_back(pos[2]);
           velocity.insert(velocity.end(), {pos[1], -pos[0], 2 * pos[2]});
+          point_id.push_back(p);
         }
         triangles.push_back(it->second);
       }
       triangle_id.push_back(t);
+      rank.push_back(t % 7);
     }
   }
 
   SurfacePiece piece() const {
     return {xyz,
             triangles,
-            {{"height", 1, height}, {"velocity", 3, velocity}},
-            {{"triangle_id", 1, triangle_id}}};
+            {{"height", 1, height}, {"velocity", 3, velocity}, {"point_id", 1, point_id}},
+            {{"triangle_id", 1, triangle_id}, {"rank", 1, rank}}};
   }
 };
 
@@ -101,9 +105,16 @@ void expect_whole_surface(vtkPointSet& surface) {
   ASSERT_EQ(surface.GetNumberOfCells(), GridSurface::triangle_count());
   vtkDataArray* height = surface.GetPointData()->GetArray("height");
   vtkDataArray* velocity = surface.GetPointData()->GetArray("velocity");
+  vtkDataArray* point_id = surface.GetPointData()->GetArray("point_id");
   vtkDataArray* id = surface.GetCellData()->GetArray("triangle_id");
-  ASSERT_TRUE(height && velocity && id);
+  vtkDataArray* rank = surface.GetCellData()->GetArray("rank");
+  ASSERT_TRUE(height && velocity && point_id && id && rank);
   ASSERT_EQ(velocity->GetNumberOfComponents(), 3);
+  // Real fields stay Float64; integer fields keep their integer width.
+  EXPECT_EQ(height->GetDataType(), VTK_DOUBLE);
+  EXPECT_EQ(point_id->GetDataType(), VTK_TYPE_INT64);
+  EXPECT_EQ(id->GetDataType(), VTK_TYPE_INT64);
+  EXPECT_EQ(rank->GetDataType(), VTK_TYPE_INT32);
   // Every point's fields are exactly the functions of its position that were written.
   for (vtkIdType p = 0; p < surface.GetNumberOfPoints(); ++p) {
     double pos[3];
@@ -112,11 +123,15 @@ void expect_whole_surface(vtkPointSet& surface) {
     EXPECT_EQ(pos[2], GridSurface::height(pos[0], pos[1]));
     EXPECT_EQ(velocity->GetComponent(p, 0), pos[1]);
     EXPECT_EQ(velocity->GetComponent(p, 2), 2 * pos[2]);
+    const auto written = GridSurface::position(static_cast<int>(point_id->GetTuple1(p)));
+    EXPECT_EQ(pos[0], written[0]);
+    EXPECT_EQ(pos[1], written[1]);
   }
   // Cells come in rank order, i.e. global triangle order, each with its original corners.
   vtkNew<vtkIdList> corners;
   for (vtkIdType c = 0; c < surface.GetNumberOfCells(); ++c) {
     ASSERT_EQ(id->GetTuple1(c), static_cast<double>(c));
+    EXPECT_EQ(rank->GetTuple1(c), static_cast<double>(c % 7));
     surface.GetCellPoints(c, corners);
     ASSERT_EQ(corners->GetNumberOfIds(), 3);
     const auto expected = GridSurface::triangle(static_cast<int>(c));
@@ -147,6 +162,7 @@ TEST_P(ParallelSurfaceWriter, PiecesReadBackAsTheWholeSurface) {
     ASSERT_TRUE(surface);
     EXPECT_EQ(static_cast<std::uint64_t>(surface->GetNumberOfPoints()), total_points);
     expect_whole_surface(*surface);
+    EXPECT_TRUE(test::temporary_files_under(dir).empty());
   }
   comm.barrier();
 }
@@ -157,8 +173,17 @@ TEST_P(ParallelSurfaceWriter, AFailureOnOneRankIsAnErrorOnEveryRank) {
   const OwnedPiece owned(0, 4);
   auto broken = owned.piece();
   if (comm.rank == comm.size - 1)
-    broken.point_fields[0].values = broken.point_fields[0].values.first(1);
+    broken.point_fields[0].values = std::span<const double>(owned.height).first(1);
   EXPECT_THROW(write_parallel_surface(comm, dir, "broken", broken, GetParam()), Error);
+
+  // The header declares one type per field: ranks disagreeing on it is an error too.
+  if (comm.size > 1) {
+    auto retyped = owned.piece();
+    const std::vector<std::int64_t> wide(owned.rank.begin(), owned.rank.end());
+    if (comm.is_root())
+      retyped.cell_fields[1].values = std::span<const std::int64_t>(wide);
+    EXPECT_THROW(write_parallel_surface(comm, dir, "retyped", retyped, GetParam()), Error);
+  }
 
   const auto blocker = dir / "not_a_directory";
   if (comm.is_root())

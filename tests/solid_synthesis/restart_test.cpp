@@ -74,6 +74,13 @@ protected:
 };
 fs::path SolidSynthesisRuns::dir_;
 
+TEST_F(SolidSynthesisRuns, NoTemporaryFileIsLeftInTheRunOrTheCache) {
+  // .vdb, .vti, slice PNGs, checkpoints, caches, summary.json: all renamed into place.
+  EXPECT_TRUE(fs::exists(dir_ / "n2" / "solid_synthesis.vdb"));
+  EXPECT_TRUE(test::temporary_files_under(dir_ / "n2").empty());
+  EXPECT_TRUE(test::temporary_files_under(dir_ / "cache").empty());
+}
+
 TEST_F(SolidSynthesisRuns, SameBytesAtOneTwoAndThreeRanks) {
   for (const int ranks : {1, 3}) {
     const fs::path out = dir_ / with_ranks("n", ranks);

@@ -255,7 +255,7 @@ TEST(SimilaritySetCache, RoundTripAndRefusals) {
   EXPECT_EQ(loaded->dims, sets.dims);
   EXPECT_EQ(loaded->k, sets.k);
   EXPECT_EQ(loaded->candidates, sets.candidates);
-  EXPECT_FALSE(std::filesystem::exists(dir / "cache" / ".sets.h5.tmp"));
+  EXPECT_TRUE(test::temporary_files_under(dir).empty());
 
   const std::string other_key = similarity_cache_key(features, {4, 7, false});
   EXPECT_FALSE(load_similarity_sets(comm, file, other_key).has_value()) << "key mismatch";

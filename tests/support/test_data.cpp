@@ -1,5 +1,7 @@
 #include "test_data.hpp"
 
+#include "core/atomic_output.hpp"
+
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -40,6 +42,14 @@ std::filesystem::path scratch_dir(const std::string& name) {
   }
   MPI_Barrier(MPI_COMM_WORLD);
   return dir;
+}
+
+std::vector<std::filesystem::path> temporary_files_under(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> found;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
+    if (final_name_of_temporary(entry.path().filename().string()))
+      found.push_back(entry.path());
+  return found;
 }
 
 } // namespace texsim::test

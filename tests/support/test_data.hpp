@@ -3,6 +3,7 @@
 /// scratch directories.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace texsim::test {
 
@@ -25,5 +26,9 @@ std::string missing_data_message(const std::string& relative);
 
 /// A fresh empty directory for this test, the same path on every rank. Collective.
 std::filesystem::path scratch_dir(const std::string& name);
+
+/// Files under `dir` (recursively) named as temporaries of core/atomic_output.hpp
+/// (`<name>.tmp-<pid>`): what an interrupted or failed write leaves behind. Not collective.
+std::vector<std::filesystem::path> temporary_files_under(const std::filesystem::path& dir);
 
 } // namespace texsim::test

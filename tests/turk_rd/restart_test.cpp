@@ -9,10 +9,12 @@
 #include "par/comm.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
+#include "support/vtk_array_type.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -143,7 +145,22 @@ TEST_F(TurkRdRestart, RestartAcrossTheStageBoundaryEndsBitIdentical) {
     // The frame series continue where they stopped: the same entries as the uninterrupted run.
     for (const char* series : {"turk_rd_surface.pvd", "turk_rd_cells.pvd", "turk_rd_bump.pvd"})
       EXPECT_EQ(read_text(b / series), read_text(run_a() / series)) << series;
+    EXPECT_TRUE(test::temporary_files_under(b).empty());
   }
+}
+
+TEST_F(TurkRdRestart, CellFramesHoldIntegerIdsAndNoTemporaryFileIsLeft) {
+  EXPECT_TRUE(test::temporary_files_under(run_a()).empty());
+  std::vector<fs::path> frames;
+  for (const auto& entry : fs::directory_iterator(run_a() / "frames"))
+    if (entry.path().filename().string().starts_with("cells_") &&
+        entry.path().extension() == ".pvtp")
+      frames.push_back(entry.path());
+  ASSERT_FALSE(frames.empty());
+  std::sort(frames.begin(), frames.end());
+  using test::ArrayAssociation;
+  EXPECT_EQ(test::vtk_array_type(frames.back(), ArrayAssociation::cell, "cell_id"), VTK_TYPE_INT64);
+  EXPECT_EQ(test::vtk_array_type(frames.back(), ArrayAssociation::cell, "pattern"), VTK_DOUBLE);
 }
 
 TEST_F(TurkRdRestart, ThreeRanksGiveTheSameBitsAsTwo) {

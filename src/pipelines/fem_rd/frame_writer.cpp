@@ -21,17 +21,18 @@ std::filesystem::path write_frame(const par::Comm& comm, const geom::Distributed
       triangles.push_back(piece_index[local]);
     }
   const std::size_t n = piece_locals.size();
-  std::vector<double> xyz(3 * n), input_id(n);
+  std::vector<double> xyz(3 * n);
+  std::vector<std::int64_t> input_id(n);
   std::vector<std::vector<double>> species(solver.species_count(), std::vector<double>(n));
   for (std::size_t p = 0; p < n; ++p) {
     const std::int32_t global = mesh.global_index(piece_locals[p]);
     for (int axis = 0; axis < 3; ++axis)
       xyz[3 * p + axis] = mesh.mesh().positions[global][axis];
-    input_id[p] = double(mesh.input_id()[global]);
+    input_id[p] = mesh.input_id()[global];
     for (std::size_t s = 0; s < species.size(); ++s)
       species[s][p] = solver.local_values(s)[piece_locals[p]];
   }
-  std::vector<double> owner(mesh.owned_triangles().size(), comm.rank);
+  const std::vector<std::int32_t> owner(mesh.owned_triangles().size(), comm.rank);
   io::SurfacePiece piece{xyz, triangles, {}, {{"rank", 1, owner}}};
   for (std::size_t s = 0; s < species.size(); ++s)
     piece.point_fields.push_back({solver.species_names()[s], 1, species[s]});

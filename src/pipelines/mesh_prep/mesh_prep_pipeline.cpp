@@ -58,7 +58,8 @@ std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunConte
   const Eigen::VectorXd vertex_area = geom::lumped_mass(mesh);
   const auto triangle_area = geom::triangle_areas(mesh);
   const std::size_t n = piece.global_vertex.size();
-  std::vector<double> xyz(3 * n), normal(3 * n), area(n), global_id(n);
+  std::vector<double> xyz(3 * n), normal(3 * n), area(n);
+  std::vector<std::int32_t> global_id(n);
   for (std::size_t v = 0; v < n; ++v) {
     const auto g = piece.global_vertex[v];
     for (int axis = 0; axis < 3; ++axis) {
@@ -71,7 +72,8 @@ std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunConte
   std::vector<std::int64_t> triangles;
   for (const auto& tri : piece.mesh.triangles)
     triangles.insert(triangles.end(), tri.begin(), tri.end());
-  std::vector<double> owner(piece.global_triangle.size(), ctx.comm.rank), cell_area;
+  const std::vector<std::int32_t> owner(piece.global_triangle.size(), ctx.comm.rank);
+  std::vector<double> cell_area;
   for (const auto t : piece.global_triangle)
     cell_area.push_back(triangle_area[t]);
 

@@ -1,5 +1,6 @@
 #include "pipelines/solid_synthesis/keyed_cache_file.hpp"
 
+#include "core/atomic_output.hpp"
 #include "io/hdf5_attribute.hpp"
 #include "io/hdf5_file.hpp"
 #include "par/hdf5_call.hpp"
@@ -31,26 +32,17 @@ void write_cache_file(const std::filesystem::path& file, const std::string& key,
                       const std::function<void(hid_t, const std::filesystem::path&)>& fill) {
   if (file.has_parent_path())
     std::filesystem::create_directories(file.parent_path());
-  std::string hidden_name = ".";
-  hidden_name += file.filename().string();
-  hidden_name += ".tmp";
-  const std::filesystem::path temporary = file.parent_path() / hidden_name;
-  try {
+  write_atomically(file, [&](const std::filesystem::path& temporary) {
     par::silence_hdf5_error_printing();
     par::Hdf5Handle h5(
         TEXSIM_HDF5_CALL(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                         temporary.string()),
+                         file.string()),
         H5Fclose);
-    fill(h5.get(), temporary);
-    io::write_attribute(h5.get(), "format_version", format_version, temporary);
-    io::write_attribute(h5.get(), "key", key, temporary);
-    TEXSIM_HDF5_CALL(h5.reset(), temporary.string() << ": closing");
-    std::filesystem::rename(temporary, file);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+    fill(h5.get(), file);
+    io::write_attribute(h5.get(), "format_version", format_version, file);
+    io::write_attribute(h5.get(), "key", key, file);
+    TEXSIM_HDF5_CALL(h5.reset(), file.string() << ": closing");
+  });
 }
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -1,7 +1,7 @@
 #pragma once
 /// Cache files of precomputed results (appearance spaces, similarity sets): one HDF5 file per
-/// key, whose root attributes hold a format version and the key. Files are written under a hidden
-/// temporary name and renamed, so a reader never sees half a file.
+/// key, whose root attributes hold a format version and the key. Files are written atomically
+/// (core/atomic_output.hpp), so a reader never sees half a file.
 #include "par/hdf5_handle.hpp"
 
 #include <hdf5.h>
@@ -20,9 +20,9 @@ namespace texsim::pipelines::solid_synthesis {
 std::optional<par::Hdf5Handle> open_cache_file(const std::filesystem::path& file,
                                                const std::string& key, std::int64_t format_version);
 
-/// Creates the temporary file, lets `fill(h5, temporary_path)` store the payload, adds the format
-/// version and key, and renames it to `file`; on failure the temporary is removed and the
-/// exception passed on. Not collective.
+/// Creates a temporary file, lets `fill(h5, file)` store the payload (`file` is for messages),
+/// adds the format version and key, and commits it over `file` (fsync, rename); on failure the
+/// temporary is removed and the exception passed on. Not collective.
 void write_cache_file(const std::filesystem::path& file, const std::string& key,
                       std::int64_t format_version,
                       const std::function<void(hid_t, const std::filesystem::path&)>& fill);

@@ -223,7 +223,8 @@ void PatternFrames::write_cells(const std::string& name, double time, const Fram
 
   std::vector<double> xyz;
   std::vector<std::int64_t> connectivity;
-  std::vector<std::vector<double>> cell_values(fields.size() + 1);
+  std::vector<std::int64_t> cell_ids;
+  std::vector<std::vector<double>> cell_values(fields.size());
   for (const auto& piece : cells_.pieces()) {
     const std::int64_t first = std::int64_t(xyz.size() / 3);
     for (const auto& p : piece.polygon)
@@ -232,16 +233,16 @@ void PatternFrames::write_cells(const std::string& name, double time, const Fram
     for (std::size_t k = 1; k + 1 < piece.polygon.size(); ++k) {
       connectivity.insert(connectivity.end(),
                           {first, first + std::int64_t(k), first + std::int64_t(k) + 1});
-      cell_values[0].push_back(double(cells_.view_ids()[piece.seed]));
+      cell_ids.push_back(cells_.view_ids()[piece.seed]);
       for (std::size_t f = 0; f < fields.size(); ++f)
-        cell_values[f + 1].push_back(fields[f][piece.seed]);
+        cell_values[f].push_back(fields[f][piece.seed]);
     }
   }
   io::SurfacePiece surface{xyz, connectivity, {}, {}};
-  surface.cell_fields.push_back({"cell_id", 1, cell_values[0]});
-  surface.cell_fields.push_back({"pattern", 1, cell_values[1]});
+  surface.cell_fields.push_back({"cell_id", 1, cell_ids});
+  surface.cell_fields.push_back({"pattern", 1, cell_values[0]});
   for (std::size_t s = 0; s < data.species_names.size(); ++s)
-    surface.cell_fields.push_back({data.species_names[s], 1, cell_values[s + 2]});
+    surface.cell_fields.push_back({data.species_names[s], 1, cell_values[s + 1]});
   const auto file = io::write_parallel_surface(comm_, output_dir_ / "frames", "cells_" + name,
                                                surface, io::SurfaceFormat::vtp);
   cells_series_->add(time, std::filesystem::relative(file, output_dir_).string());
