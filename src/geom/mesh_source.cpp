@@ -1,5 +1,6 @@
 #include "geom/mesh_source.hpp"
 
+#include "core/log.hpp"
 #include "geom/generators.hpp"
 #include "geom/loop_subdivision.hpp"
 #include "geom/mesh_measures.hpp"
@@ -49,14 +50,36 @@ MeshSource read_mesh_source(const ConfigSection& section) {
       section.get<int>("subdivision_levels", source.subdivision_levels, int_in_range(0, 6));
   source.noise_amplitude =
       section.get<double>("noise_amplitude", source.noise_amplitude, non_negative());
+  source.repair.strict = section.choice<bool>("repair", false, {{"fix", false}, {"strict", true}});
+  if (source.repair.strict)
+    source.repair.split_non_manifold = false;
+  source.repair.min_component_fraction = section.get<double>(
+      "min_component_fraction", source.repair.min_component_fraction, in_range(0.0, 1.0));
+  source.repair.fill_holes = section.get<bool>("fill_holes", source.repair.fill_holes);
+  if (source.repair.strict && source.repair.fill_holes)
+    section.fail("fill_holes", "false with repair: strict (strict changes nothing)");
+  if (section.has("remesh")) {
+    const auto remesh = section.section("remesh");
+    RemeshOptions options;
+    options.edge_length = remesh.require<double>("edge_length", positive());
+    options.iterations = remesh.get<int>("iterations", options.iterations, int_in_range(1, 100));
+    source.remesh = options;
+  }
   return source;
+}
+
+MeshRepairOptions MeshSource::fix_repair_options() {
+  MeshRepairOptions options;
+  options.split_non_manifold = true;
+  options.min_component_fraction = 0.01;
+  return options;
 }
 
 namespace {
 TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
   switch (source.generator) {
   case MeshGenerator::kNone:
-    return read_mesh(source.file, MeshRepairOptions{}, repairs);
+    return read_mesh(source.file, source.repair, repairs);
   case MeshGenerator::kIcosphere:
     return icosphere(source.icosphere_level, source.radius);
   case MeshGenerator::kTorus:
@@ -69,15 +92,48 @@ TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
 }
 } // namespace
 
-TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, RepairReport* repairs) {
-  TriangleMesh mesh = load_or_generate(source, repairs);
+TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildReport* report) {
+  MeshBuildReport built;
+  built.from_file = source.generator == MeshGenerator::kNone;
+  built.file = source.file;
+  built.strict = source.repair.strict;
+  TriangleMesh mesh = load_or_generate(source, &built.repairs);
   for (auto& position : mesh.positions)
     position *= source.scale;
+  if (source.remesh) {
+    built.remeshed = true;
+    built.remesh_edge_length = source.remesh->edge_length;
+    built.vertices_before_remesh = mesh.num_vertices();
+    built.triangles_before_remesh = mesh.num_triangles();
+    mesh = remesh_isotropic(mesh, *source.remesh);
+  }
+  if (report != nullptr)
+    *report = built;
   if (source.subdivision_levels > 0)
     mesh = loop_subdivide(mesh, source.subdivision_levels);
   if (source.noise_amplitude > 0)
     mesh = noisy(mesh, source.noise_amplitude * mean_edge_length(mesh), seed);
   return mesh;
+}
+
+void record_mesh_build(const MeshBuildReport& report, RunReport& run) {
+  if (report.from_file) {
+    const auto& repairs = report.repairs;
+    auto metrics = repairs.metrics();
+    metrics["mode"] = report.strict ? "strict" : "fix";
+    run.metric("mesh_repair", metrics);
+    log::info(log::cat("read ", report.file.string(),
+                       " (mesh.repair: ", report.strict ? "strict" : "fix",
+                       "); repairs: ", repairs.changed() ? repairs.summary() : "none"));
+  }
+  if (report.remeshed) {
+    run.metric("mesh_remesh", {{"edge_length", report.remesh_edge_length},
+                               {"vertices_before", report.vertices_before_remesh},
+                               {"triangles_before", report.triangles_before_remesh}});
+    log::info(log::cat("remeshed towards edge length ", report.remesh_edge_length, " from ",
+                       report.vertices_before_remesh, " vertices, ", report.triangles_before_remesh,
+                       " triangles"));
+  }
 }
 
 } // namespace texsim::geom

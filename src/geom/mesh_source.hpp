@@ -1,15 +1,20 @@
 #pragma once
-/// Where a pipeline's surface comes from, as a config section: a mesh file or a generator, then
-/// optional Loop subdivision and seeded normal noise. Shared by every surface pipeline:
+/// Where a pipeline's surface comes from, as a config section: a mesh file (repaired) or a
+/// generator, then optional isotropic remeshing, Loop subdivision and seeded normal noise. Shared
+/// by every surface pipeline:
 ///   input: {file: data/meshes/bunny00.off, subdivision_levels: 1}
+///   mesh: {file: data/scans/colin27_head_2mm_mc.ply, repair: fix, remesh: {edge_length: 2.5}}
 ///   input: {generator: box, size: [1, 1, 1], cells_per_edge: 24, noise_amplitude: 0.1}
 #include "core/config.hpp"
+#include "core/run_report.hpp"
+#include "geom/mesh_remesh.hpp"
 #include "geom/mesh_validation.hpp"
 #include "geom/triangle_mesh.hpp"
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 
 namespace texsim::geom {
 
@@ -28,16 +33,40 @@ struct MeshSource {
   double scale = 1.0; ///< scale: factor on every coordinate (sets the pattern size of RD runs)
   int subdivision_levels = 0;   ///< subdivision_levels: Loop subdivision steps
   double noise_amplitude = 0.0; ///< noise_amplitude: times the mean edge length
+  /// repair: fix (default: split non-manifold edges and vertices, orient, drop small components,
+  /// optionally fill holes) or strict (refuse what needs repair); min_component_fraction (0.01:
+  /// of the largest component's area), fill_holes (false). Files only.
+  MeshRepairOptions repair = fix_repair_options();
+  /// remesh: {edge_length: L, iterations: 3}: isotropic remeshing after `scale`, L in scaled units.
+  std::optional<RemeshOptions> remesh;
+
+  /// The repairs `mesh.repair: fix` makes by default.
+  static MeshRepairOptions fix_repair_options();
 };
 
 /// Reads the section; exactly one of `file` and `generator` must be given, and a file must exist.
 /// Throws InputError naming the key path.
 MeshSource read_mesh_source(const ConfigSection& section);
 
-/// Reads (with the documented repairs of geom::repair, reported through `repairs` when not null)
-/// or generates the mesh, scales it, refines it and perturbs it with noise keyed by `seed`. Serial;
-/// the same on every rank.
+/// What build_mesh() did to the file's mesh, for the log and summary.json.
+struct MeshBuildReport {
+  bool from_file = false;
+  std::filesystem::path file;
+  bool strict = false;
+  RepairReport repairs;
+  bool remeshed = false;
+  double remesh_edge_length = 0;
+  std::int64_t vertices_before_remesh = 0, triangles_before_remesh = 0;
+};
+
+/// Reads (with the repairs of geom::repair as `source.repair` says, reported through `report` when
+/// not null) or generates the mesh, scales it, remeshes it, refines it and perturbs it with noise
+/// keyed by `seed`. Serial; the same on every rank.
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed,
-                        RepairReport* repairs = nullptr);
+                        MeshBuildReport* report = nullptr);
+
+/// Logs (rank 0) what build_mesh() repaired and remeshed and records it in `run` as the metrics
+/// "mesh_repair" (mode and every count of RepairReport::metrics) and "mesh_remesh".
+void record_mesh_build(const MeshBuildReport& report, RunReport& run);
 
 } // namespace texsim::geom

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
+#include "geom/mesh_repair.hpp"
 #include "geom/mesh_topology.hpp"
 
 #include <Eigen/Geometry>
@@ -222,7 +223,8 @@ bool MeshReport::clean() const {
 
 bool RepairReport::changed() const {
   return merged_vertices + dropped_degenerate_triangles + dropped_duplicate_triangles +
-             dropped_unreferenced_vertices >
+             dropped_unreferenced_vertices + split_added_vertices + reoriented_triangles +
+             dropped_components + filled_holes >
          0;
 }
 
@@ -234,6 +236,14 @@ std::string RepairReport::summary() const {
       {merged_vertices, "merged coincident vertices"},
       {dropped_degenerate_triangles, "dropped degenerate triangles"},
       {dropped_duplicate_triangles, "dropped duplicate triangles"},
+      {non_manifold_edges, "split non-manifold edges"},
+      {non_manifold_vertices, "split non-manifold vertices"},
+      {split_added_vertices, "vertex copies added"},
+      {reoriented_triangles, "reoriented triangles"},
+      {dropped_components, "dropped small components"},
+      {dropped_component_triangles, "their triangles"},
+      {filled_holes, "filled holes"},
+      {hole_triangles, "hole triangles added"},
       {dropped_unreferenced_vertices, "dropped unreferenced vertices"}};
   std::ostringstream out;
   const char* separator = "";
@@ -244,6 +254,23 @@ std::string RepairReport::summary() const {
     }
   }
   return out.str();
+}
+
+nlohmann::json RepairReport::metrics() const {
+  return {{"merged_vertices", merged_vertices},
+          {"dropped_degenerate_triangles", dropped_degenerate_triangles},
+          {"dropped_duplicate_triangles", dropped_duplicate_triangles},
+          {"dropped_unreferenced_vertices", dropped_unreferenced_vertices},
+          {"non_manifold_edges", non_manifold_edges},
+          {"non_manifold_vertices", non_manifold_vertices},
+          {"inconsistent_orientation_edges", inconsistent_orientation_edges},
+          {"split_added_vertices", split_added_vertices},
+          {"reoriented_triangles", reoriented_triangles},
+          {"components", components},
+          {"dropped_components", dropped_components},
+          {"dropped_component_triangles", dropped_component_triangles},
+          {"filled_holes", filled_holes},
+          {"hole_triangles", hole_triangles}};
 }
 
 MeshReport validate(const TriangleMesh& mesh, double degenerate_area_tolerance) {
@@ -271,6 +298,61 @@ MeshReport validate(const TriangleMesh& mesh, double degenerate_area_tolerance) 
   return report;
 }
 
+namespace {
+
+/// Appends "N what (first: ...)" to `found` when the issue occurred.
+void list_issue(std::vector<std::string>& found, const MeshIssue& issue, const char* what) {
+  if (issue)
+    found.push_back(std::to_string(issue.count) + " " + what + " (first: " + issue.first + ")");
+}
+
+/// Strict mode: refuses, listing every defect that `fix` would repair.
+void refuse_defects(const TriangleMesh& mesh, const MeshRepairOptions& options,
+                    const std::string& source_name) {
+  const auto report = validate(mesh, options.degenerate_area_tolerance);
+  std::vector<std::string> found;
+  list_issue(found, report.degenerate_triangles, "degenerate triangles");
+  list_issue(found, report.duplicate_triangles, "duplicate triangles");
+  list_issue(found, report.non_manifold_edges, "non-manifold edges");
+  list_issue(found, report.non_manifold_vertices, "non-manifold vertices");
+  list_issue(found, report.inconsistent_orientation, "inconsistently oriented edges");
+  if (found.empty() && options.min_component_fraction > 0) {
+    auto copy = mesh;
+    const auto drop = drop_small_components(copy, options.min_component_fraction);
+    if (drop.dropped_components > 0)
+      found.push_back(
+          std::to_string(drop.dropped_components) + " of " + std::to_string(drop.components) +
+          " connected components below min_component_fraction " +
+          std::to_string(options.min_component_fraction) + " of the largest one's area (" +
+          std::to_string(drop.dropped_triangles) + " triangles)");
+  }
+  if (found.empty())
+    return;
+  std::ostringstream message;
+  message << source_name << ": the mesh needs repair (mesh.repair: strict): ";
+  for (std::size_t i = 0; i < found.size(); ++i)
+    message << (i ? "; " : "") << found[i];
+  message << "; expected a clean manifold surface, or mesh.repair: fix";
+  throw InputError(message.str());
+}
+
+/// Cuts non-manifold edges and vertices apart and orients, recording what was found.
+void split_and_orient(TriangleMesh& mesh, RepairReport& report) {
+  const MeshTopology topo(mesh);
+  report.non_manifold_edges = topo.non_manifold_edges().size();
+  report.non_manifold_vertices = topo.non_manifold_vertices().size();
+  report.inconsistent_orientation_edges = find_inconsistent_orientation(mesh, topo).count;
+  if (report.non_manifold_edges + report.non_manifold_vertices +
+          report.inconsistent_orientation_edges ==
+      0)
+    return;
+  const auto split = split_non_manifold(mesh);
+  report.split_added_vertices = split.added_vertices;
+  report.reoriented_triangles = split.reoriented_triangles;
+}
+
+} // namespace
+
 RepairReport repair(TriangleMesh& mesh, const MeshRepairOptions& options,
                     const std::string& source_name) {
   if (mesh.triangles.empty()) {
@@ -288,6 +370,9 @@ RepairReport repair(TriangleMesh& mesh, const MeshRepairOptions& options,
   RepairReport report;
   if (options.merge_coincident_vertices) {
     report.merged_vertices = merge_coincident(mesh);
+  }
+  if (options.strict) {
+    refuse_defects(mesh, options, source_name);
   }
   if (options.drop_degenerate_triangles) {
     MeshIssue issue;
@@ -308,10 +393,24 @@ RepairReport repair(TriangleMesh& mesh, const MeshRepairOptions& options,
     TEXSIM_INPUT_ERROR(source_name << ": no usable triangles left after repair ("
                                    << report.summary() << "); expected a triangle surface");
   }
-  if (options.require_manifold_edges) {
+  if (options.split_non_manifold) {
+    split_and_orient(mesh, report);
+  } else if (options.require_manifold_edges) {
     if (const auto issue = find_non_manifold_edges(MeshTopology(mesh))) {
       refuse(source_name, issue, "non-manifold edges", "texsim needs a manifold surface");
     }
+  }
+  if (options.min_component_fraction > 0) {
+    const auto drop = drop_small_components(mesh, options.min_component_fraction);
+    report.components = drop.components;
+    report.dropped_components = drop.dropped_components;
+    report.dropped_component_triangles = drop.dropped_triangles;
+    report.dropped_unreferenced_vertices += drop_unreferenced(mesh);
+  }
+  if (options.fill_holes) {
+    const auto fill = fill_holes(mesh);
+    report.filled_holes = fill.holes;
+    report.hole_triangles = fill.added_triangles;
   }
   return report;
 }

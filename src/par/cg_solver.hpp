@@ -23,8 +23,13 @@ struct SolveStats {
 /// block Jacobi with ICC(0) in reverse Cuthill-McKee order per rank for stiffness-dominated
 /// systems (heat step: 23 iterations instead of 34 in natural order), point Jacobi for
 /// mass-dominated systems whose matrix changes every step (the RD step: no factorization to
-/// rebuild, 2x faster than ICC).
-enum class Preconditioner { kBlockJacobiIcc, kJacobi };
+/// rebuild, 2x faster than ICC). On raw scans, whose slivers make the same systems badly
+/// conditioned, algebraic multigrid: PETSc's smoothed aggregation (GAMG) or hypre's BoomerAMG
+/// (docs/fem_rd.md has the measured iterations).
+enum class Preconditioner { kBlockJacobiIcc, kJacobi, kGamg, kBoomerAmg };
+
+/// "bjacobi+icc", "jacobi", "gamg", "boomeramg".
+const char* preconditioner_name(Preconditioner preconditioner);
 
 class CgSolver {
 public:
@@ -35,13 +40,23 @@ public:
   /// Solves A x = b with x's content as the initial guess. The preconditioner is rebuilt when
   /// A's values changed since the last solve. Throws texsim::Error naming PETSc's reason when
   /// the solve diverges. Collective.
-  void solve(Mat A, Vec b, Vec x);
+  void solve(Mat A, Vec b, Vec x) { solve(A, A, b, x); }
+  /// Like solve(A, b, x), with the preconditioner built from P instead of A: it is set up again
+  /// only when P's values or pattern changed since the last solve, so an AMG hierarchy built from
+  /// a fixed P is reused by every solve. Collective.
+  void solve(Mat A, Mat P, Vec b, Vec x);
+  /// Solves A x = b, preconditioned from A, but stops after `limit` iterations without throwing;
+  /// true when it converged. Counts in stats() like solve(). Collective.
+  bool solve_within(Mat A, Vec b, Vec x, int limit);
 
   const SolveStats& stats() const { return stats_; }
   /// "cg + bjacobi" (KSP and PC types in effect, after options).
   std::string description() const;
 
 private:
+  /// KSPSolve and bookkeeping; returns PETSc's reason.
+  KSPConvergedReason run(Mat A, Mat P, Vec b, Vec x);
+
   PetscKsp ksp_;
   SolveStats stats_;
 };

@@ -1,6 +1,6 @@
 // Turk's explicit reaction-diffusion on cells: diffusion alone conserves sum A_i c_i and relaxes to
 // the area-weighted mean; the spot system gives the same bits on any number of ranks as on one;
-// frozen cells keep their values.
+// frozen cells keep their values; a dt above the stability limit runs as stable substeps.
 #include "core/config.hpp"
 #include "geom/generators.hpp"
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
@@ -95,6 +95,44 @@ TEST(CellRdSolver, SpotSystemIsBitIdenticalOnAnyRankCount) {
   const auto [lo, hi] = std::minmax_element(serial.begin(), serial.end());
   EXPECT_LT(*lo, 3.9) << "no pattern started";
   EXPECT_GT(*hi, 4.1);
+}
+
+TEST(CellRdSolver, DtAboveTheStabilityLimitRunsAsStableSubsteps) {
+  const par::Comm comm = par::world();
+  const auto cells = make_cells(comm, geom::icosphere(3), 600);
+  const std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
+  const auto spots = model_from("type: turing_spots\ns: 0.05\n");
+  const double limit = CellRdSolver(comm, cells, *spots, scale, 1.0).max_stable_dt();
+
+  // 2.5 limits at safety 0.9: ceil(2.5 / 0.9) = 3 substeps, the same bits as three steps of a
+  // third of it.
+  CellRdSolver split(comm, cells, *spots, scale, 2.5 * limit);
+  EXPECT_EQ(split.substeps(), 3);
+  EXPECT_EQ(split.substep_dt(), 2.5 * limit / 3.0);
+  CellRdSolver small(comm, cells, *spots, scale, 2.5 * limit / 3.0);
+  EXPECT_EQ(small.substeps(), 1);
+  for (int n = 0; n < 20; ++n)
+    split.step(n * split.dt());
+  for (int n = 0; n < 60; ++n)
+    small.step(n * small.dt());
+  for (std::size_t s = 0; s < 2; ++s) {
+    const auto a = split.owned_values(s), b = small.owned_values(s);
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "species " << s;
+  }
+
+  // Pure diffusion 40 limits at a time stays within the initial range (each substep is a convex
+  // combination) and conserves the integral.
+  const auto heat = model_from("type: expression\nspecies:\n  u: {diffusion: 0.25, initial: "
+                               "\"x\"}\n");
+  const double heat_limit = CellRdSolver(comm, cells, *heat, scale, 1.0).max_stable_dt();
+  CellRdSolver coarse(comm, cells, *heat, scale, 40.0 * heat_limit);
+  EXPECT_EQ(coarse.substeps(), std::int64_t(std::ceil(40.0 / 0.9)));
+  const double initial = coarse.integral(0);
+  for (int n = 0; n < 10; ++n)
+    coarse.step(n * coarse.dt());
+  EXPECT_NEAR(coarse.integral(0), initial, 1e-12);
+  for (const double v : coarse.owned_values(0))
+    EXPECT_LE(std::abs(v), 1.0 + 1e-12);
 }
 
 /// Turing's spot system seen only through the ReactionModel interface, so the solver cannot fuse

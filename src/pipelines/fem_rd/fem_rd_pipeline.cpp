@@ -57,7 +57,10 @@ void FemRdPipeline::run(RunContext& ctx) {
   {
     auto stage = ctx.timers.scope("mesh");
     geom::TriangleMesh surface;
-    par::run_collectively(comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed); });
+    geom::MeshBuildReport built;
+    par::run_collectively(comm,
+                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
+    geom::record_mesh_build(built, report);
     mesh = std::make_unique<geom::DistributedMesh>(comm, surface, settings_.partition);
     const auto& quality = mesh->quality();
     report.metric("vertices", mesh->global_count());
@@ -175,6 +178,7 @@ void FemRdPipeline::run(RunContext& ctx) {
   report.metric("species", species);
   report.metric("steps", settings_.steps);
   report.metric("solver", solver.solver_description());
+  report.metric("linear_solver", solver.solver_metrics());
   if (smoother) {
     const SurfaceMeasures final_surface = measure(*mesh);
     report.metric("smoothing",

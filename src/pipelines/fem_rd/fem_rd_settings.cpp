@@ -14,8 +14,14 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
   settings.rd.dt = time.get<double>("dt", settings.rd.dt, positive());
   settings.rd.lumped_mass =
       section.choice<bool>("mass", false, {{"consistent", false}, {"lumped", true}});
-  settings.rd.rtol =
-      section.section("solver").get<double>("rtol", settings.rd.rtol, in_range(1e-15, 0.1));
+  const auto solver = section.section("solver");
+  settings.rd.rtol = solver.get<double>("rtol", settings.rd.rtol, in_range(1e-15, 0.1));
+  settings.rd.preconditioner =
+      solver.choice<RdPreconditioner>("preconditioner", settings.rd.preconditioner,
+                                      {{"auto", RdPreconditioner::kAuto},
+                                       {"jacobi", RdPreconditioner::kJacobi},
+                                       {"gamg", RdPreconditioner::kGamg},
+                                       {"boomeramg", RdPreconditioner::kBoomerAmg}});
 
   const auto smoothing = section.section("smoothing");
   settings.smoothing = smoothing.get<bool>("enabled", false);

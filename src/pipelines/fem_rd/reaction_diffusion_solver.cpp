@@ -1,12 +1,20 @@
 #include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
 
 #include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/rng.hpp"
+#include "geom/mesh_measures.hpp"
 #include "par/petsc_session.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace texsim::pipelines::fem_rd {
+namespace {
+/// CounterRng stream of the probe's right-hand side.
+constexpr std::uint32_t kProbeStream = 0x7e57;
+} // namespace
 
 ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                  const geom::DistributedMesh& mesh,
@@ -18,8 +26,6 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
   for (std::size_t s = 0; s < names_.size(); ++s) {
     fields_.push_back(
         std::make_unique<par::GhostedVector>(comm, mesh.owned_count(), mesh.ghosts()));
-    solvers_.push_back(
-        std::make_unique<par::CgSolver>(comm, options.rtol, par::Preconditioner::kJacobi));
     systems_.push_back(assembler_.create_matrix(comm));
   }
   TEXSIM_PETSC_CALL(MatCreateVecs(mass_, ones_.address(), rhs_.address()));
@@ -33,6 +39,115 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                                << names_.size() << " species");
   for (std::size_t s = 0; s < names_.size(); ++s)
     fields_[s]->set_owned(std::span(initial[s]).first(mesh.owned_count()));
+
+  diffusion_ = species_diffusion();
+  preconditioner_ = choose_preconditioner();
+  for (std::size_t s = 0; s < names_.size(); ++s)
+    solvers_.push_back(std::make_unique<par::CgSolver>(comm, options.rtol, preconditioner_));
+  if (preconditioner_ != par::Preconditioner::kJacobi) {
+    for (std::size_t s = 0; s < names_.size(); ++s)
+      preconditioning_.push_back(assembler_.create_matrix(comm));
+    assemble_preconditioners();
+  }
+}
+
+std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
+  std::vector<std::span<const double>> state;
+  for (const auto& field : fields_)
+    state.push_back(field->local());
+  std::vector<SpeciesCoefficients> coefficients;
+  model_.coefficients(0.0, state, VertexData{local_ids_, local_xyz_}, coefficients);
+  std::vector<double> diffusion;
+  for (const auto& c : coefficients)
+    diffusion.push_back(c.diffusion);
+  return diffusion;
+}
+
+std::vector<double> ReactionDiffusionSolver::system_values(std::span<const double> weight,
+                                                           double diffusion) const {
+  std::vector<double> values = assembler_.mass_values(weight, options_.lumped_mass);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    values[k] += options_.dt * diffusion * stiffness_[k];
+  return values;
+}
+
+par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
+  switch (options_.preconditioner) {
+  case RdPreconditioner::kJacobi:
+    return par::Preconditioner::kJacobi;
+  case RdPreconditioner::kGamg:
+    return par::Preconditioner::kGamg;
+  case RdPreconditioner::kBoomerAmg:
+    return par::Preconditioner::kBoomerAmg;
+  case RdPreconditioner::kAuto:
+    break;
+  }
+  // Probe: solve P x = M r from zero for the fastest-diffusing species (its system is the least
+  // diagonally dominant), r uniform in [-1, 1] keyed by input vertex id. It depends only on the
+  // geometry, so a restarted run makes the same choice.
+  const auto fastest =
+      std::size_t(std::max_element(diffusion_.begin(), diffusion_.end()) - diffusion_.begin());
+  par::PetscMat probe = assembler_.create_matrix(comm_);
+  assembler_.set_values(probe, system_values({}, diffusion_[fastest]));
+  par::PetscVec x;
+  TEXSIM_PETSC_CALL(VecDuplicate(rhs_, x.address()));
+  const CounterRng rng(0, kProbeStream);
+  double* values = nullptr;
+  TEXSIM_PETSC_CALL(VecGetArray(explicit_part_, &values));
+  for (std::int32_t v = 0; v < mesh_.owned_count(); ++v)
+    values[v] = rng.uniform(-1.0, 1.0, std::uint64_t(local_ids_[v]), 0);
+  TEXSIM_PETSC_CALL(VecRestoreArray(explicit_part_, &values));
+  TEXSIM_PETSC_CALL(MatMult(mass_, explicit_part_, rhs_));
+  TEXSIM_PETSC_CALL(VecSet(x, 0.0));
+  par::CgSolver jacobi(comm_, options_.rtol, par::Preconditioner::kJacobi);
+  probe_converged_ = jacobi.solve_within(probe, rhs_, x, kJacobiProbeLimit);
+  probe_iterations_ = int(jacobi.stats().iterations);
+  if (probe_converged_) {
+    log::info(log::cat("fem_rd: CG + Jacobi probe solve converged in ", probe_iterations_,
+                       " iterations (limit ", kJacobiProbeLimit, "): Jacobi preconditioner"));
+    return par::Preconditioner::kJacobi;
+  }
+  log::info(log::cat("fem_rd: CG + Jacobi probe solve did not converge in ", kJacobiProbeLimit,
+                     " iterations (badly shaped triangles; fem_rd.mesh.remesh would help): "
+                     "BoomerAMG preconditioner, set up once from M + dt D K"));
+  return par::Preconditioner::kBoomerAmg;
+}
+
+void ReactionDiffusionSolver::assemble_preconditioners() {
+  for (std::size_t s = 0; s < preconditioning_.size(); ++s)
+    assembler_.set_values(preconditioning_[s], system_values({}, diffusion_[s]));
+}
+
+void ReactionDiffusionSolver::record_step_iterations(long long iterations) {
+  step_iterations_.push_back(iterations);
+  const double per_solve = double(iterations) / double(fields_.size());
+  if (warned_ || per_solve <= kWarnIterations)
+    return;
+  warned_ = true;
+  log::warn(log::cat("fem_rd: CG needed ", per_solve, " iterations per solve on this step with ",
+                     par::preconditioner_name(preconditioner_), " (more than ", kWarnIterations,
+                     "): the mesh has badly shaped triangles (slivers, needles); remesh it with "
+                     "fem_rd.mesh.remesh: {edge_length: L}, L about the mean edge length ",
+                     mean_edge_length_, " or larger"));
+}
+
+nlohmann::json ReactionDiffusionSolver::solver_metrics() const {
+  const long long total = std::accumulate(step_iterations_.begin(), step_iterations_.end(), 0LL);
+  nlohmann::json metrics = {
+      {"preconditioner", par::preconditioner_name(preconditioner_)},
+      {"choice", options_.preconditioner == RdPreconditioner::kAuto ? "auto" : "config"},
+      {"iterations_per_step", step_iterations_},
+      {"iterations_per_step_mean",
+       step_iterations_.empty() ? 0.0 : double(total) / double(step_iterations_.size())},
+      {"iterations_per_step_max",
+       step_iterations_.empty()
+           ? 0LL
+           : *std::max_element(step_iterations_.begin(), step_iterations_.end())}};
+  if (probe_iterations_ >= 0)
+    metrics["jacobi_probe"] = {{"iterations", probe_iterations_},
+                               {"converged", probe_converged_},
+                               {"limit", kJacobiProbeLimit}};
+  return metrics;
 }
 
 void ReactionDiffusionSolver::refresh_vertex_data() {
@@ -52,6 +167,9 @@ void ReactionDiffusionSolver::rebuild_geometry() {
   assembler_.update_geometry();
   assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
   stiffness_ = assembler_.stiffness_values({});
+  mean_edge_length_ = geom::mean_edge_length(mesh_.mesh());
+  if (!preconditioning_.empty())
+    assemble_preconditioners();
 }
 
 void ReactionDiffusionSolver::step(double t) {
@@ -66,14 +184,12 @@ void ReactionDiffusionSolver::step(double t) {
 
   const double dt = options_.dt;
   std::vector<double> weight(mesh_.local_count());
+  long long iterations = 0;
   for (std::size_t s = 0; s < fields_.size(); ++s) {
     const auto& c = coefficients_[s];
     for (std::size_t v = 0; v < weight.size(); ++v)
       weight[v] = 1.0 - dt * std::min(c.linear[v], 0.0);
-    std::vector<double> values = assembler_.mass_values(weight, options_.lumped_mass);
-    for (std::size_t k = 0; k < values.size(); ++k)
-      values[k] += dt * c.diffusion * stiffness_[k];
-    assembler_.set_values(systems_[s], values);
+    assembler_.set_values(systems_[s], system_values(weight, c.diffusion));
 
     // Right-hand side M (u^n + tau C3): the P1 interpolant of C3 integrates exactly.
     double* explicit_values = nullptr;
@@ -83,11 +199,17 @@ void ReactionDiffusionSolver::step(double t) {
       explicit_values[v] = u[v] + dt * (c.source[v] + std::max(c.linear[v], 0.0) * u[v]);
     TEXSIM_PETSC_CALL(VecRestoreArray(explicit_part_, &explicit_values));
     TEXSIM_PETSC_CALL(MatMult(mass_, explicit_part_, rhs_));
-    solvers_[s]->solve(systems_[s], rhs_, fields_[s]->vec());
+    const long long before = solvers_[s]->stats().iterations;
+    if (preconditioning_.empty())
+      solvers_[s]->solve(systems_[s], rhs_, fields_[s]->vec());
+    else
+      solvers_[s]->solve(systems_[s], preconditioning_[s], rhs_, fields_[s]->vec());
+    iterations += solvers_[s]->stats().iterations - before;
     clamp_to_lower_bound(s);
   }
   for (auto& field : fields_)
     field->update_ghosts();
+  record_step_iterations(iterations);
 }
 
 void ReactionDiffusionSolver::clamp_to_lower_bound(std::size_t s) {

@@ -5,6 +5,7 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/p1_matrices.hpp"
 #include "geom/submesh.hpp"
+#include "geom/triangle_quality.hpp"
 #include "io/parallel_surface_writer.hpp"
 #include "io/pvd_series.hpp"
 #include "par/collective.hpp"
@@ -37,6 +38,9 @@ void record_measures(const geom::TriangleMesh& mesh, RunContext& ctx) {
   report.metric("surface_area", geom::total_area(mesh));
   report.metric("mean_edge_length", geom::mean_edge_length(mesh));
   report.metric("bounding_box", {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}});
+  const auto quality = geom::triangle_quality(mesh);
+  report.metric("triangle_quality", quality.metrics());
+  log::info("triangle quality: " + quality.summary());
   log::info(log::cat("mesh: ", mesh.num_vertices(), " vertices, ", mesh.num_triangles(),
                      " triangles, area ", geom::total_area(mesh), ", Euler characteristic ", chi,
                      topology.is_closed() ? ", closed" : ", with boundary"));
@@ -101,14 +105,12 @@ void MeshPrepPipeline::run(RunContext& ctx) {
   geom::TriangleMesh mesh;
   {
     auto stage = ctx.timers.scope("build");
-    geom::RepairReport repairs;
+    geom::MeshBuildReport built;
     par::run_collectively(ctx.comm,
-                          [&] { mesh = geom::build_mesh(source_, ctx.settings.seed, &repairs); });
-    if (!source_.file.empty()) {
-      ctx.report.metric("repairs", repairs.changed() ? repairs.summary() : "none");
-      log::info(log::cat("read ", source_.file.string(),
-                         "; repairs: ", repairs.changed() ? repairs.summary() : "none"));
-    }
+                          [&] { mesh = geom::build_mesh(source_, ctx.settings.seed, &built); });
+    geom::record_mesh_build(built, ctx.report);
+    if (built.from_file)
+      ctx.report.metric("repairs", built.repairs.changed() ? built.repairs.summary() : "none");
   }
   {
     auto stage = ctx.timers.scope("measure");

@@ -2,10 +2,11 @@
 /// mesh_prep: turns a user's surface (or a generated one) into the clean, refined mesh the surface
 /// pipelines need, and shows it in ParaView partitioned as a parallel run would split it.
 ///
-/// Stages: build (read with the documented repairs of geom::repair, or generate; Loop subdivision;
-/// seeded noise), measure (area, Euler characteristic, genus, edge lengths), write (one .pvtp with
-/// a piece per rank: normals, vertex areas, owning rank; plus a .pvd). Every rank builds the whole
-/// mesh; each rank writes the triangles of its Morton-curve part.
+/// Stages: build (read with the repairs of geom::repair that `input.repair` selects, or generate;
+/// isotropic remeshing; Loop subdivision; seeded noise), measure (area, Euler characteristic,
+/// genus, edge lengths, triangle quality: smallest angle, aspect-ratio histogram), write (one .pvtp
+/// with a piece per rank: normals, vertex areas, owning rank; plus a .pvd). Every rank builds the
+/// whole mesh; each rank writes the triangles of its Morton-curve part.
 #include "geom/mesh_source.hpp"
 #include "pipelines/pipeline.hpp"
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <type_traits>
 
@@ -23,9 +24,12 @@ static_assert(kBlock % kLanes == 0);
 
 CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
                            const fem_rd::ReactionModel& model,
-                           std::span<const double> diffusion_scale, double dt)
-    : comm_(comm), cells_(cells), model_(model), names_(model.species()), dt_(dt),
+                           std::span<const double> diffusion_scale, double dt,
+                           double stability_safety)
+    : comm_(comm), cells_(cells), model_(model), names_(model.species()), dt_(dt), substep_dt_(dt),
       frozen_(std::size_t(cells.owned_count()), 0) {
+  TEXSIM_VERIFY(stability_safety > 0 && stability_safety <= 1,
+                "stability safety " << stability_safety << " outside (0, 1]");
   const std::int32_t n = cells.owned_count();
   const int species = int(names_.size());
   TEXSIM_VERIFY(diffusion_scale.size() == std::size_t(n), "diffusion scale has "
@@ -76,6 +80,11 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
   const double fastest = *std::max_element(rates_.begin(), rates_.end());
   max_stable_dt_ = fastest > 0 && row_sum_max > 0 ? 1.0 / (fastest * row_sum_max)
                                                   : std::numeric_limits<double>::infinity();
+  // Every rank holds the same limit (reduced above), so every rank takes the same substeps.
+  if (dt > max_stable_dt_) {
+    substeps_ = std::int64_t(std::ceil(dt / (stability_safety * max_stable_dt_)));
+    substep_dt_ = dt / double(substeps_);
+  }
 
   substrate_ = model.substrate({ids_, xyz_});
   turing_spots_ = dynamic_cast<const fem_rd::TuringSpotsModel*>(&model);
@@ -182,7 +191,7 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
       for (std::size_t s = 0; s < species; ++s) {
         const double rate =
             rates_[s] * sum[s] + coefficients[s].linear[k] * own[s] + coefficients[s].source[k];
-        out[s] = std::max(own[s] + dt_ * rate, lower_bounds_[s]);
+        out[s] = std::max(own[s] + substep_dt_ * rate, lower_bounds_[s]);
       }
     }
   } else {
@@ -219,7 +228,7 @@ void CellRdSolver::update_block(std::int32_t begin, std::int32_t count, double t
           const double c2 = kPointwise ? linear[s] : coefficients[s].linear[k];
           const double c3 = kPointwise ? source[s] : coefficients[s].source[k];
           const double rate = rates_[s] * sum[s][lane] + c2 * own[s][lane] + c3;
-          out[s] = std::max(own[s][lane] + dt_ * rate, lower_bounds_[s]);
+          out[s] = std::max(own[s][lane] + substep_dt_ * rate, lower_bounds_[s]);
         }
       }
     }
@@ -246,6 +255,11 @@ void CellRdSolver::evaluate_block(std::int32_t begin, std::int32_t count, double
 }
 
 void CellRdSolver::step(double t) {
+  for (std::int64_t k = 0; k < substeps_; ++k)
+    substep(t + double(k) * substep_dt_);
+}
+
+void CellRdSolver::substep(double t) {
   const std::int32_t n = cells_.owned_count();
   const std::size_t species = names_.size();
   const std::int32_t blocks = (n + kBlock - 1) / kBlock;

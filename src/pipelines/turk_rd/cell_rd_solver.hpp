@@ -26,11 +26,15 @@ namespace texsim::pipelines::turk_rd {
 
 class CellRdSolver {
 public:
-  /// `diffusion_scale` holds f at every owned cell. Starts from the model's initial state.
-  /// Collective.
+  /// `diffusion_scale` holds f at every owned cell. Starts from the model's initial state. A `dt`
+  /// above max_stable_dt() is split into substeps() explicit substeps of at most
+  /// `stability_safety` * max_stable_dt() each. Collective.
   CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
                const fem_rd::ReactionModel& model, std::span<const double> diffusion_scale,
-               double dt);
+               double dt, double stability_safety = kDefaultStabilitySafety);
+
+  /// Fraction of the stability limit a substep takes when dt exceeds the limit.
+  static constexpr double kDefaultStabilitySafety = 0.9;
 
   std::size_t species_count() const { return names_.size(); }
   const std::vector<std::string>& species_names() const { return names_; }
@@ -47,8 +51,13 @@ public:
   /// Largest dt for which the explicit diffusion stays stable and positive: the update of a cell is
   /// a convex combination of its own and its neighbours' values when dt D_s sum_j weight_ij <= 1.
   double max_stable_dt() const { return max_stable_dt_; }
+  /// Explicit substeps per step: 1 when dt <= max_stable_dt(), else
+  /// ceil(dt / (stability_safety * max_stable_dt())).
+  std::int64_t substeps() const { return substeps_; }
+  /// dt / substeps(): the explicit step actually taken.
+  double substep_dt() const { return substep_dt_; }
 
-  /// One explicit step from time t to t + dt. Collective.
+  /// One step from time t to t + dt: substeps() explicit updates of substep_dt(). Collective.
   void step(double t);
 
   /// sum_i A_i c_i over all cells. Collective.
@@ -75,6 +84,8 @@ private:
   /// The model's C2 and C3 for the block's cells into scratch.coefficients.
   void evaluate_block(std::int32_t begin, std::int32_t count, double t,
                       BlockScratch& scratch) const;
+  /// One explicit update of substep_dt_ from time t. Collective.
+  void substep(double t);
 
   const par::Comm& comm_;
   const geom::SurfaceCells& cells_;
@@ -82,6 +93,8 @@ private:
   std::vector<std::string> names_;
   double dt_;
   double max_stable_dt_ = 0;
+  std::int64_t substeps_ = 1;
+  double substep_dt_;
   std::vector<double> rates_;        ///< D_s of each species
   std::vector<double> lower_bounds_; ///< per species
   std::vector<double> weights_;      ///< (abar / A_i) f_ij w_ij, parallel to the stencil CSR

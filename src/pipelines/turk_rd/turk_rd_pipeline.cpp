@@ -9,6 +9,7 @@
 #include "geom/surface_field_sampler.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
+#include "par/global_median.hpp"
 #include "par/global_range.hpp"
 #include "pipelines/turk_rd/cascade_checkpoint.hpp"
 #include "pipelines/turk_rd/cell_expression.hpp"
@@ -101,6 +102,28 @@ void check_finite(const par::Comm& comm, const StageSettings& stage, std::int64_
                               stage.dt));
 }
 
+/// Logs the explicit substeps a stage takes when its dt is above the cells' stability limit, and
+/// refuses a dt that would need more than kMaxSubsteps of them. Collective (every rank holds the
+/// same limit).
+void log_substeps(const StageSettings& stage, const CellRdSolver& solver) {
+  constexpr std::int64_t kMaxSubsteps = 1000;
+  if (solver.substeps() > kMaxSubsteps) {
+    InputError error(log::cat(
+        stage.key_path, ".dt: ", stage.dt, " needs ", solver.substeps(),
+        " explicit substeps (stability limit of these cells ", solver.max_stable_dt(),
+        "); expected at most ", kMaxSubsteps,
+        ": some cells couple across thin parts or slivers of the mesh; use a smaller dt, fewer "
+        "cells or mesh.remesh"));
+    error.mark_on_all_ranks();
+    throw error;
+  }
+  if (solver.substeps() > 1)
+    log::info(log::cat("stage '", stage.name, "': dt ", stage.dt,
+                       " is above the explicit stability limit ", solver.max_stable_dt(),
+                       " of these cells: ", solver.substeps(), " substeps of ", solver.substep_dt(),
+                       " per step (turk_rd.stability_safety ", stage.stability_safety, ")"));
+}
+
 /// One stage of the cascade set up on the cells: its solver, frozen cells and start values.
 class StageRun {
 public:
@@ -110,7 +133,8 @@ public:
            const std::vector<std::string>& mesh_field_names, const FieldMap& fields,
            std::span<const double> scale, bool fresh)
       : stage_(stage), earlier_names_(earlier_names),
-        solver_(comm, cells, *stage.model, scale, stage.dt), xyz_(owned_xyz(cells)) {
+        solver_(comm, cells, *stage.model, scale, stage.dt, stage.stability_safety),
+        xyz_(owned_xyz(cells)) {
     std::vector<char> frozen(std::size_t(cells.owned_count()), 0);
     if (!stage.active.empty()) {
       auto names = earlier_names;
@@ -154,10 +178,7 @@ public:
       }
     }
     solver_.set_frozen(std::move(frozen));
-    if (stage.dt > solver_.max_stable_dt())
-      throw InputError(log::cat(stage.key_path, ".dt: expected at most ", solver_.max_stable_dt(),
-                                " (explicit diffusion on these cells is unstable above it), got ",
-                                stage.dt));
+    log_substeps(stage, solver_);
   }
 
   CellRdSolver& solver() { return solver_; }
@@ -201,7 +222,10 @@ void TurkRdPipeline::run(RunContext& ctx) {
   geom::TriangleMesh surface;
   {
     auto stage = ctx.timers.scope("mesh");
-    par::run_collectively(comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed); });
+    geom::MeshBuildReport built;
+    par::run_collectively(comm,
+                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
+    geom::record_mesh_build(built, report);
   }
   const geom::MeshTopology topology(surface);
   std::unique_ptr<geom::SurfaceCells> cells_owner;
@@ -218,6 +242,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
     MPI_Allreduce(&local_area, &total_cell_area, 1, MPI_DOUBLE, MPI_SUM, comm.raw);
     const double mean_area = cells.surface_area() / double(cells.global_count());
     const auto area_range = par::global_range(comm, cells.areas());
+    const double area_median = par::global_median(comm, cells.areas());
     const auto coupling_range = par::global_range(comm, cells.couplings());
     const auto& q = cells.quality();
     const auto& relaxation = cells.relaxation();
@@ -228,6 +253,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
                             {"spacing", cells.spacing()},
                             {"area_min_over_mean", area_range.min / mean_area},
                             {"area_max_over_mean", area_range.max / mean_area},
+                            {"area_min", area_range.min},
+                            {"area_median", area_median},
+                            {"area_max", area_range.max},
                             {"coupling_max", coupling_range.max},
                             {"relaxation_radius", relaxation.radius},
                             {"relaxation_iterations", settings_.cells.relaxation.iterations}});
@@ -239,7 +267,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
                        " triangles, cell areas sum to the surface area within ",
                        std::abs(total_cell_area - cells.surface_area()) / cells.surface_area(),
                        ", areas ", area_range.min / mean_area, " to ", area_range.max / mean_area,
-                       " of the mean, couplings up to ", coupling_range.max,
+                       " of the mean (min ", area_range.min, ", median ", area_median, ", max ",
+                       area_range.max, "), couplings up to ", coupling_range.max,
                        "; partition edge cut ", q.edge_cut, ", imbalance ", q.imbalance));
   }
 
@@ -364,6 +393,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
     }
     const auto shown_shapes = measure_pattern(comm, cells, stage_run.shown(earlier));
     stage_metrics[stage.name] = {{"steps", stage.steps},
+                                 {"dt", stage.dt},
+                                 {"max_stable_dt", solver.max_stable_dt()},
+                                 {"substeps", solver.substeps()},
                                  {"frozen_cells_rank0", solver.frozen_count()},
                                  {"species", species_metrics},
                                  {"shown",

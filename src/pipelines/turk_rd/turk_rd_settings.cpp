@@ -130,6 +130,10 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
   if (!section.has("stages") || section.section("stages").keys().empty())
     section.fail("stages", "a mapping of stage names to {model, steps, dt, ...}, run in order");
   const ConfigSection stages = section.section("stages");
+  const double stability_safety =
+      section.get<double>("stability_safety", StageSettings{}.stability_safety, [](double v) {
+        return v > 0 && v <= 1 ? std::string() : std::string("a number in (0, 1]");
+      });
   for (const std::string& name : stages.keys()) {
     const ConfigSection entry = stages.section(name);
     StageSettings stage;
@@ -141,6 +145,7 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
       return n >= 0 ? std::string() : std::string("a non-negative step count");
     });
     stage.dt = entry.get<double>("dt", stage.dt, positive());
+    stage.stability_safety = stability_safety;
     const auto earlier = earlier_stage_names(settings.stages, settings.stages.size());
     for (const auto& field : settings.mesh_fields)
       if (std::find(stage.species.begin(), stage.species.end(), field) != stage.species.end() ||

@@ -39,6 +39,9 @@ struct StageSettings {
   std::vector<std::string> species;
   std::int64_t steps = 10000;
   double dt = 1.0;
+  /// turk_rd.stability_safety: a dt above the explicit stability limit of the cells is split into
+  /// substeps of at most this fraction of the limit (CellRdSolver::substeps).
+  double stability_safety = 0.9;
   /// Cells where this is zero keep their values during the stage (expression of x, y, z, the mesh
   /// fields and the earlier stages' final values "<stage>_<species>"); empty: all cells change.
   std::string active;
