@@ -71,8 +71,14 @@ TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
 
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, RepairReport* repairs) {
   TriangleMesh mesh = load_or_generate(source, repairs);
-  for (auto& position : mesh.positions)
+  for (auto& position : mesh.positions) {
     position *= source.scale;
+    // Beyond this, squared lengths and areas overflow to infinity in every later computation.
+    if (!(position.cwiseAbs().maxCoeff() <= 1e100))
+      TEXSIM_INPUT_ERROR("scale: " << source.scale << " makes a vertex coordinate "
+                                   << position.cwiseAbs().maxCoeff()
+                                   << "; expected coordinates up to 1e100 in magnitude");
+  }
   if (source.subdivision_levels > 0)
     mesh = loop_subdivide(mesh, source.subdivision_levels);
   if (source.noise_amplitude > 0)
