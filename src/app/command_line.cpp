@@ -2,6 +2,7 @@
 
 #include "core/config.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 
 #include <array>
 
@@ -19,7 +20,7 @@ bool is_checkpoint_argument(const std::string& text) {
   for (const char* known : kOptions)
     if (edit_distance(option, known) <= 2)
       hint = std::string(" (did you mean ") + known + "?)";
-  throw InputError("unknown option " + option + hint + "; see texsim --help");
+  throw InputError("unknown option " + shortened(option) + hint + "; see texsim --help");
 }
 } // namespace
 
@@ -69,6 +70,9 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
         line.restart = argv[++i];
     } else if (arg.rfind("--restart=", 0) == 0) {
       line.restart = arg.substr(10);
+      if (line.restart->empty())
+        throw InputError("--restart= needs a checkpoint path after '='; use --restart alone for "
+                         "the latest checkpoint in output.dir/checkpoints");
     } else if (arg.rfind("--", 0) == 0) {
       unknown_option(arg);
     } else if (arg.size() > 1 && arg[0] == '-') {
@@ -88,8 +92,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (positional.empty())
     throw InputError("no config file given; usage: texsim CONFIG.yaml (see texsim --help)");
   if (positional.size() > 1)
-    throw InputError("expected one config file, got '" + positional[0] + "' and '" + positional[1] +
-                     "' (see texsim --help)");
+    throw InputError("expected one config file, got '" + shortened(positional[0]) + "' and '" +
+                     shortened(positional[1]) + "' (see texsim --help)");
   line.config_path = positional.front();
   return line;
 }

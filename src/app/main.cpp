@@ -1,7 +1,10 @@
 // texsim: one binary for every pipeline. MPI and PETSc are initialised once here; the config is
 // read and validated on rank 0, broadcast, and every rank builds the same typed settings from it.
 #include "app/command_line.hpp"
+#include "app/error_report.hpp"
+#include "app/output_dir.hpp"
 #include "app/pipeline_registry.hpp"
+#include "app/preflight.hpp"
 #include "app/run_settings.hpp"
 #include "app/summary_writer.hpp"
 #include "core/log.hpp"
@@ -80,39 +83,22 @@ void insert_petsc_options(const std::map<std::string, std::string>& options) {
   }
 }
 
-/// Creates output.dir; refuses a directory that holds another run unless overwriting or restarting.
-void prepare_output_dir(const par::Comm& comm, const CommonConfig& common) {
-  par::run_collectively(comm, [&] {
-    if (!comm.is_root())
-      return;
-    const auto& dir = common.run.output_dir;
-    const bool holds_run = std::filesystem::exists(dir / "summary.json") ||
-                           std::filesystem::exists(dir / "checkpoints");
-    if (holds_run && !common.run.restart && !common.overwrite_output)
-      throw InputError("output.dir: '" + dir.string() +
-                       "' already holds a run (summary.json or checkpoints/); choose another "
-                       "directory, continue it with --restart, or set output.overwrite: true");
-    std::error_code error;
-    // Overwriting a run starts it afresh: its checkpoints must not be restarted from or mixed in.
-    if (holds_run && common.overwrite_output && !common.run.restart)
-      std::filesystem::remove_all(dir / "checkpoints", error);
-    std::filesystem::create_directories(dir, error);
-    if (error)
-      throw InputError("output.dir: cannot create '" + dir.string() + "': " + error.message());
-  });
-}
-
 int execute(const par::Comm& comm, const CommandLine& line) {
   const double start_s = wall_seconds();
   const std::string text = read_config_on_root(comm, line);
   ConfiguredRun run = configure(comm, text, line);
+  MemoryEstimate memory;
+  par::run_collectively(comm, [&] { memory = run.pipeline->estimate_memory(comm.size); });
   if (line.command == Command::kValidate) {
     log::info(log::cat(line.config_path, ": valid ", run.common.pipeline, " config (config hash ",
-                       run.common.run.config_hash, ")\n---\n", text));
+                       run.common.run.config_hash, ")\n", memory_summary(comm, memory), "\n---\n",
+                       text));
     return 0;
   }
+  require_memory_per_rank(comm, memory);
   insert_petsc_options(run.common.petsc);
-  prepare_output_dir(comm, run.common);
+  check_petsc_options(comm);
+  prepare_output_dir(comm, run.common, *run.pipeline);
 
   log::info(log::cat("texsim ", build_info::kVersion, ": pipeline ", run.common.pipeline, " on ",
                      comm.size, " ranks x ", omp_get_max_threads(), " threads, output in ",
@@ -162,6 +148,7 @@ int main(int argc, char** argv) {
   {
     par::PetscSession session(petsc_argc, petsc_argv_data);
     const par::Comm comm = par::world();
+    const app::ErrorReport error_report(comm);
     log::init(comm.rank, line.quiet);
     // After PETSc's initialisation, which installs handlers of its own.
     install_stop_signal_handlers();
@@ -182,18 +169,8 @@ int main(int argc, char** argv) {
       exit_code = kExitCheckpointed;
       if (comm.is_root())
         std::cerr << "texsim: stopped: " << stop.what() << std::endl;
-    } catch (const Error& e) {
-      exit_code = dynamic_cast<const InputError*>(&e) ? 2 : 1;
-      if (!e.on_all_ranks()) {
-        // Only this rank failed: the others may be waiting in a collective call.
-        std::cerr << "texsim: error on rank " << comm.rank << ": " << e.what() << std::endl;
-        MPI_Abort(comm.raw, exit_code);
-      }
-      if (comm.is_root())
-        std::cerr << "texsim: error: " << e.what() << std::endl;
-    } catch (const std::exception& e) {
-      std::cerr << "texsim: internal error on rank " << comm.rank << ": " << e.what() << std::endl;
-      MPI_Abort(comm.raw, 1);
+    } catch (...) {
+      exit_code = error_report.finish(std::current_exception());
     }
   }
   return exit_code;

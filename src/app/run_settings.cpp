@@ -12,7 +12,10 @@ CommonConfig read_common_config(const ConfigSection& root) {
   config.run.seed = root.get<std::uint64_t>("seed", 1);
 
   const auto output = root.section("output");
-  config.run.output_dir = output.get<std::string>("dir", "out/" + config.pipeline);
+  config.run.output_dir =
+      output.get<std::string>("dir", "out/" + config.pipeline, [](const std::string& dir) {
+        return dir.empty() ? "a directory name" : "";
+      });
   config.run.output_every = output.get<int>("every", 10, positive_int());
   config.overwrite_output = output.get<bool>("overwrite", false);
 

@@ -1,11 +1,12 @@
 #include "core/config.hpp"
 
 #include "core/hash.hpp"
+#include "core/input_file.hpp"
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <sstream>
 
 namespace texsim {
@@ -64,8 +65,17 @@ template <class T> std::optional<T> decode(const YAML::Node& node) {
 }
 } // namespace
 
+bool is_non_finite_number(const YAML::Node& node) {
+  const auto value = decode<double>(node);
+  return value && !std::isfinite(*value);
+}
+
 template <> std::optional<double> convert<double>(const YAML::Node& node) {
-  return decode<double>(node);
+  // .inf and .nan are YAML numbers, but no texsim setting means them: dt: .inf would run away.
+  const auto value = decode<double>(node);
+  if (value && !std::isfinite(*value))
+    return std::nullopt;
+  return value;
 }
 template <> std::optional<int> convert<int>(const YAML::Node& node) {
   return decode<int>(node);
@@ -177,10 +187,10 @@ std::string ConfigSection::shown_value(const std::string& key) const {
   if (!node || node.IsNull())
     return "nothing";
   if (node.IsScalar())
-    return node.Scalar().empty() ? "an empty string" : node.Scalar();
+    return node.Scalar().empty() ? "an empty string" : shortened(node.Scalar());
   YAML::Emitter out;
   out << YAML::Flow << node;
-  return out.c_str();
+  return shortened(out.c_str());
 }
 
 void ConfigSection::fail(const std::string& key, const std::string& expected) const {
@@ -219,6 +229,46 @@ ConfigDocument::ConfigDocument(YAML::Node root, std::string source)
       known_(std::make_shared<std::set<std::string>>()),
       free_form_(std::make_shared<std::set<std::string>>()) {}
 
+namespace {
+/// A config holds a few hundred values; aliases (&a ... *a) can make a short text stand for
+/// exponentially many, which every later walk over the tree would visit.
+constexpr std::size_t kMaxConfigValues = 100000;
+/// Larger than any hand-written config; keeps a stray multi-gigabyte file out of memory.
+constexpr std::uint64_t kMaxConfigBytes = 16ull << 20;
+
+/// Refuses a key given twice in one mapping (YAML would silently keep the first) and a tree that
+/// aliases expand beyond kMaxConfigValues. `count` is the number of values visited so far.
+void check_tree(const YAML::Node& node, const std::string& path, const std::string& source,
+                std::size_t& count) {
+  if (++count > kMaxConfigValues)
+    throw InputError(source + ": more than " + std::to_string(kMaxConfigValues) +
+                     " values once aliases are expanded; expected a config of plain keys");
+  if (node.IsSequence()) {
+    for (const auto& item : node)
+      check_tree(item, path, source, count);
+    return;
+  }
+  if (!node.IsMap())
+    return;
+  std::map<std::string, int> first_line;
+  for (const auto& item : node) {
+    const int line = item.first.Mark().line + 1;
+    if (!item.first.IsScalar())
+      throw InputError(source + ":" + std::to_string(line) + ": a key" +
+                       (path.empty() ? "" : " under '" + shortened(path) + "'") +
+                       " is a list or mapping; expected a plain name");
+    const std::string& key = item.first.Scalar();
+    const std::string key_path = path.empty() ? key : path + "." + key;
+    const auto [seen, inserted] = first_line.emplace(key, line);
+    if (!inserted)
+      throw InputError(source + ":" + std::to_string(line) + ": key '" + shortened(key_path) +
+                       "' given twice (first on line " + std::to_string(seen->second) +
+                       "); expected each key once");
+    check_tree(item.second, key_path, source, count);
+  }
+}
+} // namespace
+
 ConfigDocument ConfigDocument::parse(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
@@ -230,16 +280,13 @@ ConfigDocument ConfigDocument::parse(const std::string& text, const std::string&
     root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap())
     throw InputError(source + ": expected a mapping of keys at the top level");
+  std::size_t count = 0;
+  check_tree(root, "", source, count);
   return ConfigDocument(root, source);
 }
 
 ConfigDocument ConfigDocument::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(path + ": cannot open config file (missing or unreadable)");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path);
+  return parse(read_regular_file(path, "YAML config file", kMaxConfigBytes), shortened(path));
 }
 
 void ConfigDocument::set_override(const std::string& assignment) {

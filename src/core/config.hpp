@@ -149,6 +149,8 @@ TEXSIM_CONFIG_TYPE(std::vector<std::string>)
 using Vec3Array = std::array<double, 3>;
 TEXSIM_CONFIG_TYPE(Vec3Array)
 #undef TEXSIM_CONFIG_TYPE
+/// True for a scalar YAML reads as an infinite or NaN number (.inf, -.Inf, .nan).
+bool is_non_finite_number(const YAML::Node& node);
 } // namespace detail
 
 template <class T>
@@ -167,7 +169,7 @@ T ConfigSection::require(const std::string& key, const Constraint<T>& check) con
     fail(key, detail::type_name<T>() + " (required key is missing)");
   const std::optional<T> value = detail::convert<T>(node);
   if (!value)
-    fail(key, detail::type_name<T>());
+    fail(key, detail::is_non_finite_number(node) ? "a finite number" : detail::type_name<T>());
   if (check) {
     const std::string expected = check(*value);
     if (!expected.empty())

@@ -1,6 +1,8 @@
 #include "geom/mesh_reader.hpp"
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
+#include "geom/mesh_file_check.hpp"
 #include "geom/off_reader.hpp"
 #include "vtk/error_capture.hpp"
 
@@ -147,11 +149,7 @@ std::string array_names(vtkPointData* data) {
 }
 
 void require_file(const std::filesystem::path& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    TEXSIM_INPUT_ERROR(path.string()
-                       << ": no such file; expected a mesh file (" << kKnownExtensions << ")");
-  }
+  require_regular_file(path, std::string("mesh file (") + kKnownExtensions + ")");
 }
 
 } // namespace
@@ -161,10 +159,12 @@ TriangleMesh read_raw_mesh(const std::filesystem::path& path) {
   const bool vtk_format = ext == ".obj" || ext == ".ply" || ext == ".stl" || ext == ".vtk" ||
                           ext == ".vtp" || ext == ".vtu";
   if (!vtk_format && ext != ".off") {
-    TEXSIM_INPUT_ERROR(path.string() << ": unknown mesh extension '" << ext << "'; expected one of "
-                                     << kKnownExtensions);
+    TEXSIM_INPUT_ERROR(shortened(path.string()) << ": unknown mesh extension '" << shortened(ext)
+                                                << "'; expected one of " << kKnownExtensions);
   }
   require_file(path);
+  // VTK's readers trust what they read: a PLY header larger than its body crashes them.
+  check_mesh_file(path);
   auto mesh = vtk_format ? to_triangle_mesh(read_vtk_triangles(path, ext), path) : read_off(path);
   if (mesh.triangles.empty()) {
     TEXSIM_INPUT_ERROR(path.string() << ": no triangles (" << mesh.positions.size()

@@ -98,8 +98,14 @@ TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildR
   built.file = source.file;
   built.strict = source.repair.strict;
   TriangleMesh mesh = load_or_generate(source, &built.repairs);
-  for (auto& position : mesh.positions)
+  for (auto& position : mesh.positions) {
     position *= source.scale;
+    // Beyond this, squared lengths and areas overflow to infinity in every later computation.
+    if (!(position.cwiseAbs().maxCoeff() <= 1e100))
+      TEXSIM_INPUT_ERROR("scale: " << source.scale << " makes a vertex coordinate "
+                                   << position.cwiseAbs().maxCoeff()
+                                   << "; expected coordinates up to 1e100 in magnitude");
+  }
   if (source.remesh) {
     built.remeshed = true;
     built.remesh_edge_length = source.remesh->edge_length;

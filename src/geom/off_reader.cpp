@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -46,6 +47,15 @@ public:
     while (pos_ < text_.size() && text_[pos_] != '\n') {
       ++pos_;
     }
+  }
+
+  /// A finite floating-point number (from_chars also reads "nan" and "inf").
+  double coordinate() {
+    const double value = number<double>("a vertex coordinate");
+    if (!std::isfinite(value)) {
+      fail(value, " where a finite vertex coordinate was expected");
+    }
+    return value;
   }
 
   template <class Number> Number number(const char* expected) {
@@ -130,7 +140,7 @@ TriangleMesh read_off(const std::filesystem::path& path) {
   mesh.positions.resize(n_vertices);
   for (auto& p : mesh.positions) {
     for (int axis = 0; axis < 3; ++axis) {
-      p[axis] = tokens.number<double>("a vertex coordinate");
+      p[axis] = tokens.coordinate();
     }
     tokens.skip_line();
   }

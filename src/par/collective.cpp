@@ -1,7 +1,10 @@
 #include "par/collective.hpp"
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 
+#include <filesystem>
+#include <new>
 #include <string>
 
 namespace texsim::par {
@@ -15,6 +18,14 @@ void run_collectively(const Comm& comm, const std::function<void()>& work) {
   try {
     work();
   } catch (const InputError& e) {
+    kind = kInput;
+    message = e.what();
+  } catch (const std::bad_alloc&) {
+    // Memory is an input limit: the config asked for more than the node has.
+    kind = kInput;
+    message = out_of_memory_message(comm.rank);
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path from the config that the file system refuses (too long, not permitted, ...).
     kind = kInput;
     message = e.what();
   } catch (const std::exception& e) {

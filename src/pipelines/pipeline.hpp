@@ -5,6 +5,7 @@
 /// run() on every rank. configure() only reads and validates (no files written, no heavy work), so
 /// `texsim validate` calls it alone.
 #include "core/config.hpp"
+#include "core/memory_budget.hpp"
 #include "core/run_report.hpp"
 #include "core/stage_timers.hpp"
 #include "par/comm.hpp"
@@ -54,6 +55,15 @@ public:
   /// Config key paths that only say how long to run (e.g. "fem_rd.time.steps"): left out of the
   /// config hash, so a finished run can be continued with --restart and a larger value.
   virtual std::vector<std::string> run_length_keys() const { return {}; }
+
+  /// Peak memory per rank at `ranks` ranks, estimated from the settings configure() read (it may
+  /// read file headers), naming the key that drives it; bytes 0 when not estimated. main()
+  /// refuses a run whose estimate exceeds the memory of its node. Called on every rank after
+  /// configure(); not collective.
+  virtual MemoryEstimate estimate_memory(int /*ranks*/) const { return {}; }
+
+  /// False for a pipeline that writes no checkpoints: --restart is then refused.
+  virtual bool restartable() const { return true; }
 };
 
 } // namespace texsim::pipelines

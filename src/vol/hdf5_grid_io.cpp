@@ -1,9 +1,10 @@
 #include "vol/hdf5_grid_io.hpp"
 
 #include "core/atomic_output.hpp"
-
+#include "core/input_file.hpp"
 #include "par/hdf5_call.hpp"
 #include "par/hdf5_handle.hpp"
+#include "vol/grid_checks.hpp"
 
 #include <algorithm>
 #include <array>
@@ -102,13 +103,18 @@ std::vector<std::string> root_datasets(hid_t file, const std::string& context) {
 }
 
 template <class T>
-DenseGrid<T> read_values(hid_t data, const hsize_t* shape, const std::string& context) {
+AnyGrid read_values(const std::filesystem::path& path, hid_t data, const hsize_t* shape,
+                    const std::string& context) {
+  require_grid_fits(path, std::int64_t(std::min<hsize_t>(shape[2], INT64_MAX)),
+                    std::int64_t(std::min<hsize_t>(shape[1], INT64_MAX)),
+                    std::int64_t(std::min<hsize_t>(shape[0], INT64_MAX)), sizeof(T));
   DenseGrid<T> grid(
       Dims{static_cast<int>(shape[2]), static_cast<int>(shape[1]), static_cast<int>(shape[0])});
   TEXSIM_HDF5_CALL(
       H5Dread(data, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, grid.data().data()), context);
   grid.set_spacing(read_vector_attribute(data, "spacing", {1.0, 1.0, 1.0}, context));
   grid.set_origin(read_vector_attribute(data, "origin", {0.0, 0.0, 0.0}, context));
+  require_finite_voxels(path, grid);
   return grid;
 }
 
@@ -148,10 +154,10 @@ AnyGrid read_grid(const std::filesystem::path& path, const std::string& requeste
   }
   const bool empty = shape[0] == 0 || shape[1] == 0 || shape[2] == 0;
   if (rank == 3 && !empty) {
-    return read_values<float>(data.get(), shape.data(), context);
+    return read_values<float>(path, data.get(), shape.data(), context);
   }
   if (rank == 4 && shape[3] == 3 && !empty) {
-    return read_values<img::Rgb>(data.get(), shape.data(), context);
+    return read_values<img::Rgb>(path, data.get(), shape.data(), context);
   }
   TEXSIM_INPUT_ERROR(context << ": rank " << rank << " shape [" << shape[0] << ", " << shape[1]
                              << ", " << shape[2]
@@ -173,9 +179,7 @@ void write_hdf5_grid(const std::filesystem::path& path, const RgbGrid& grid,
 
 AnyGrid read_hdf5_grid(const std::filesystem::path& path, const std::string& dataset) {
   par::silence_hdf5_error_printing();
-  if (!std::filesystem::is_regular_file(path)) {
-    TEXSIM_INPUT_ERROR(path.string() << ": HDF5 file not found");
-  }
+  require_regular_file(path, "HDF5 volume (.h5, .hdf5)");
   try {
     return read_grid(path, dataset);
   } catch (const InputError&) {

@@ -1,13 +1,14 @@
 #include "vol/inr_reader.hpp"
 
+#include "core/input_file.hpp"
+#include "vol/grid_checks.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -232,12 +233,11 @@ template <class T> DenseGrid<T> decode_grid(const Header& header, const char* ra
 } // namespace
 
 AnyGrid read_inr(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    TEXSIM_INPUT_ERROR(path.string() << ": INRIMAGE file not found or not readable");
-  }
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_regular_file(path, "INRIMAGE volume (.inr)", UINT64_MAX);
   const Header header = parse_header(path, bytes);
+  // Checked before the product below is formed: 2^22 x 2^21 x 2^21 voxels would wrap to 0 bytes.
+  require_grid_fits(path, header.dims.nx, header.dims.ny, header.dims.nz,
+                    static_cast<std::uint64_t>(header.vdim) * sizeof(float));
   const std::size_t expected =
       header.dims.count() * static_cast<std::size_t>(header.vdim) * sample_bytes(header.sample);
   if (bytes.size() - header.bytes < expected) {
@@ -250,9 +250,9 @@ AnyGrid read_inr(const std::filesystem::path& path) {
   const bool swap = header.big_endian != (std::endian::native == std::endian::big);
   const char* raw = bytes.data() + header.bytes;
   if (header.vdim == 1) {
-    return decode_grid<float>(header, raw, swap);
+    return with_finite_voxels(path, decode_grid<float>(header, raw, swap));
   }
-  return decode_grid<img::Rgb>(header, raw, swap);
+  return with_finite_voxels(path, decode_grid<img::Rgb>(header, raw, swap));
 }
 
 } // namespace texsim::vol

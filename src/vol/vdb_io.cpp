@@ -1,6 +1,8 @@
 #include "vol/vdb_io.hpp"
 
 #include "core/atomic_output.hpp"
+#include "core/input_file.hpp"
+#include "vol/grid_checks.hpp"
 
 #include <algorithm>
 #include <mutex>
@@ -76,6 +78,7 @@ DenseGrid<T> to_dense(const VdbGrid& vdb, const std::filesystem::path& path) {
   openvdb::CoordBBox box;
   if (const auto meta = vdb.template getMetadata<openvdb::Vec3IMetadata>(kDimsKey)) {
     const openvdb::Vec3i n = meta->value();
+    require_grid_fits(path, n.x(), n.y(), n.z(), sizeof(ValueT));
     box = openvdb::CoordBBox(openvdb::Coord(0, 0, 0),
                              openvdb::Coord(n.x() - 1, n.y() - 1, n.z() - 1));
   } else {
@@ -91,6 +94,10 @@ DenseGrid<T> to_dense(const VdbGrid& vdb, const std::filesystem::path& path) {
                        << ": grid '" << vdb.getName() << "' has a " << transform.mapType()
                        << " transform, expected an axis-aligned scale and translation");
   }
+  const auto edge = [&](int axis) {
+    return std::int64_t(box.max()[axis]) - std::int64_t(box.min()[axis]) + 1;
+  };
+  require_grid_fits(path, edge(0), edge(1), edge(2), sizeof(ValueT));
   openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
   openvdb::tools::copyToDense(vdb, dense);
   const openvdb::Coord size = box.dim();
@@ -125,9 +132,7 @@ void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
 
 AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name) {
   initialize_openvdb();
-  if (!std::filesystem::is_regular_file(path)) {
-    TEXSIM_INPUT_ERROR(path.string() << ": OpenVDB file not found");
-  }
+  require_regular_file(path, "OpenVDB file (.vdb)");
   openvdb::GridBase::Ptr base;
   std::ostringstream available;
   try {
@@ -162,10 +167,10 @@ AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name
     TEXSIM_INPUT_ERROR(path.string() << ": not a readable OpenVDB file: " << e.what());
   }
   if (auto scalar = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
-    return to_dense<openvdb::FloatGrid, float>(*scalar, path);
+    return with_finite_voxels(path, to_dense<openvdb::FloatGrid, float>(*scalar, path));
   }
   if (auto colour = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base)) {
-    return to_dense<openvdb::Vec3SGrid, img::Rgb>(*colour, path);
+    return with_finite_voxels(path, to_dense<openvdb::Vec3SGrid, img::Rgb>(*colour, path));
   }
   TEXSIM_INPUT_ERROR(path.string() << ": grid '" << base->getName() << "' is of type "
                                    << base->type() << ", expected a FloatGrid or Vec3SGrid");

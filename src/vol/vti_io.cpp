@@ -1,7 +1,8 @@
 #include "vol/vti_io.hpp"
 
 #include "core/atomic_output.hpp"
-
+#include "core/input_file.hpp"
+#include "vol/grid_checks.hpp"
 #include "vtk/error_capture.hpp"
 
 #include <sstream>
@@ -9,8 +10,10 @@
 #include <vtkExecutive.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
+#include <vtkInformation.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLImageDataWriter.h>
 
@@ -92,9 +95,7 @@ void write_vti(const std::filesystem::path& path, const RgbGrid& grid,
 }
 
 AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_name) {
-  if (!std::filesystem::is_regular_file(path)) {
-    TEXSIM_INPUT_ERROR(path.string() << ": VTK image data file not found");
-  }
+  require_regular_file(path, "VTK image data file (.vti)");
   vtk::ErrorCapture capture;
   vtkNew<vtkXMLImageDataReader> reader;
   capture.watch(reader);
@@ -103,6 +104,19 @@ AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_nam
     TEXSIM_INPUT_ERROR(path.string() << ": not a VTK XML image data (.vti) file");
   }
   reader->SetFileName(path.c_str());
+  // The extent comes from the XML header: check it before VTK allocates the arrays.
+  reader->UpdateInformation();
+  if (capture.has_errors()) {
+    TEXSIM_INPUT_ERROR(path.string() << ": cannot read VTK image data: " << capture.errors());
+  }
+  const int* extent =
+      reader->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  if (extent != nullptr) {
+    const auto points = [&](int axis) {
+      return std::int64_t(extent[2 * axis + 1]) - std::int64_t(extent[2 * axis]) + 1;
+    };
+    require_grid_fits(path, points(0), points(1), points(2), 3 * sizeof(double));
+  }
   reader->Update();
   vtkImageData* image = reader->GetOutput();
   if (capture.has_errors() || image == nullptr || image->GetNumberOfPoints() == 0) {
@@ -127,9 +141,9 @@ AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_nam
   }
   switch (array->GetNumberOfComponents()) {
   case 1:
-    return copy_array<float>(*image, *array);
+    return with_finite_voxels(path, copy_array<float>(*image, *array));
   case 3:
-    return copy_array<img::Rgb>(*image, *array);
+    return with_finite_voxels(path, copy_array<img::Rgb>(*image, *array));
   default:
     TEXSIM_INPUT_ERROR(path.string() << ": array '" << array->GetName() << "' has "
                                      << array->GetNumberOfComponents()

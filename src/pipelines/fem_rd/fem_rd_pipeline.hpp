@@ -6,6 +6,7 @@
 /// checkpoint), steps (optional smoothing step of the surface, rebuild of the RD matrices on the
 /// moved surface every `rebuild_every` steps, one semi-implicit step of every species; frames every
 /// output.every steps and checkpoints every checkpoint.every steps), finish (metrics).
+#include "geom/mesh_memory.hpp"
 #include "pipelines/fem_rd/fem_rd_settings.hpp"
 #include "pipelines/fem_rd/reaction_model.hpp"
 #include "pipelines/pipeline.hpp"
@@ -19,6 +20,10 @@ public:
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
   std::vector<std::string> run_length_keys() const override { return {"fem_rd.time.steps"}; }
+  /// The whole mesh on every rank; matrices, vectors and smoothing state divided among ranks.
+  MemoryEstimate estimate_memory(int ranks) const override {
+    return geom::estimate_mesh_memory(settings_.mesh, "fem_rd.mesh", ranks, 400, 1500);
+  }
 
 private:
   FemRdSettings settings_;

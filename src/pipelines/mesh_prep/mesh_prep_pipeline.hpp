@@ -7,6 +7,7 @@
 /// genus, edge lengths, triangle quality: smallest angle, aspect-ratio histogram), write (one .pvtp
 /// with a piece per rank: normals, vertex areas, owning rank; plus a .pvd). Every rank builds the
 /// whole mesh; each rank writes the triangles of its Morton-curve part.
+#include "geom/mesh_memory.hpp"
 #include "geom/mesh_source.hpp"
 #include "pipelines/pipeline.hpp"
 
@@ -17,6 +18,12 @@ public:
   /// Reads `mesh_prep.input` (see geom/mesh_source.hpp).
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
+  /// The whole mesh on every rank, with its CGAL subdivision and topology (measured peak).
+  MemoryEstimate estimate_memory(int ranks) const override {
+    return geom::estimate_mesh_memory(source_, "mesh_prep.input", ranks, 400, 0);
+  }
+  /// mesh_prep writes no checkpoints: --restart would only overwrite the directory it names.
+  bool restartable() const override { return false; }
 
 private:
   geom::MeshSource source_;

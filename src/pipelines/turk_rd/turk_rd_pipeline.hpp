@@ -8,6 +8,7 @@
 /// Stages: mesh, retiling, setup (series, checkpoint), steps (explicit steps of each cascade stage,
 /// frames every output.every and checkpoints every checkpoint.every cumulative steps), finish
 /// (metrics per stage).
+#include "geom/mesh_memory.hpp"
 #include "pipelines/pipeline.hpp"
 #include "pipelines/turk_rd/turk_rd_settings.hpp"
 
@@ -17,6 +18,10 @@ class TurkRdPipeline : public Pipeline {
 public:
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
+  /// The whole mesh on every rank; cells, couplings and frames divided among ranks.
+  MemoryEstimate estimate_memory(int ranks) const override {
+    return geom::estimate_mesh_memory(settings_.mesh, "turk_rd.mesh", ranks, 400, 1500);
+  }
 
 private:
   TurkRdSettings settings_;

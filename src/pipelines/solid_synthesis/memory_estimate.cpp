@@ -1,0 +1,81 @@
+#include "pipelines/solid_synthesis/memory_estimate.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// Bytes per exemplar voxel and stack level: colours, `dimensions` float features, k similarity
+/// candidates and the working copies of the PCA.
+std::uint64_t exemplar_bytes_per_voxel(const SolidSynthesisSettings& settings) {
+  return 12 + 8 * std::uint64_t(settings.appearance.dimensions) +
+         8 * std::uint64_t(settings.similarity.k);
+}
+
+MemoryEstimate exemplar_estimate(const SolidSynthesisSettings& settings) {
+  const auto& exemplar = settings.exemplar;
+  std::uint64_t voxels = 0;
+  std::string key;
+  std::string shape;
+  if (exemplar.file) {
+    std::error_code error;
+    voxels = std::filesystem::file_size(*exemplar.file, error) / 4;
+    key = exemplar.key_path + ".file";
+    shape = "about " + std::to_string(voxels) + " voxels (from the file size)";
+  } else {
+    const auto edge = std::uint64_t(exemplar.size);
+    voxels = edge * edge * edge;
+    key = exemplar.key_path + ".size";
+    shape = std::to_string(edge) + "^3 voxels";
+  }
+  int octaves = 1;
+  while ((std::uint64_t(1) << octaves) * (std::uint64_t(1) << octaves) *
+             (std::uint64_t(1) << octaves) <
+         voxels)
+    ++octaves;
+  const std::uint64_t bytes = saturating_multiply(
+      saturating_multiply(voxels, std::uint64_t(octaves + 1)), exemplar_bytes_per_voxel(settings));
+  return {bytes, key,
+          "exemplar of " + shape + " x " + std::to_string(octaves + 1) +
+              " stack levels, held by every rank"};
+}
+
+MemoryEstimate synthesis_estimate(const SolidSynthesisSettings& settings, int ranks) {
+  const auto& dims = settings.dims;
+  const std::uint64_t edge = std::uint64_t(*std::max_element(dims.begin(), dims.end()));
+  std::uint64_t pyramid_edge = 1;
+  while (pyramid_edge < edge)
+    pyramid_edge *= 2;
+  const std::uint64_t pyramid_voxels =
+      saturating_multiply(saturating_multiply(pyramid_edge, pyramid_edge), pyramid_edge);
+  const std::uint64_t result_voxels =
+      std::uint64_t(dims[0]) * std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
+  // Per pyramid voxel: coordinates, features and the next level's copy (all levels: x 8/7).
+  const std::uint64_t distributed = saturating_multiply(pyramid_voxels, 64) / std::uint64_t(ranks);
+  // On rank 0: the gathered colours and the writers' copies.
+  const std::uint64_t gathered = saturating_multiply(result_voxels, 48);
+  const bool cube = dims[0] == dims[1] && dims[1] == dims[2];
+  const std::string key =
+      std::string("solid_synthesis.synthesis.") + (cube ? "size (or dims)" : "dims");
+  return {saturating_add(distributed, gathered), key,
+          std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+              std::to_string(dims[2]) + " voxels, a " + std::to_string(pyramid_edge) +
+              "^3 pyramid divided among " + std::to_string(ranks) + " ranks"};
+}
+
+} // namespace
+
+MemoryEstimate estimate_solid_synthesis_memory(const SolidSynthesisSettings& settings, int ranks) {
+  const MemoryEstimate exemplar = exemplar_estimate(settings);
+  MemoryEstimate synthesis = synthesis_estimate(settings, ranks);
+  if (settings.mode == RunMode::similarity_sets)
+    return exemplar;
+  MemoryEstimate total = larger(exemplar, synthesis);
+  total.bytes = saturating_add(exemplar.bytes, synthesis.bytes);
+  return total;
+}
+
+} // namespace texsim::pipelines::solid_synthesis

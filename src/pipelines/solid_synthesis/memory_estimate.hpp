@@ -1,0 +1,16 @@
+#pragma once
+/// The memory per rank a solid synthesis run needs, from its settings alone.
+#include "core/memory_budget.hpp"
+#include "pipelines/solid_synthesis/solid_synthesis_settings.hpp"
+
+namespace texsim::pipelines::solid_synthesis {
+
+/// The larger of two terms. Exemplar (held whole by every rank): its Gaussian stack, one full-size
+/// level per octave, with colours, appearance features and similarity sets per voxel; the voxel
+/// count of a file exemplar is taken from its size (4 bytes per voxel). Synthesis: the pyramid
+/// (next power of two of the largest edge, cubed) divided among ranks, plus the result gathered on
+/// rank 0 for the .vdb/.vti writers. Names exemplar.size, exemplar.file, synthesis.size or
+/// synthesis.dims. Serial.
+MemoryEstimate estimate_solid_synthesis_memory(const SolidSynthesisSettings& settings, int ranks);
+
+} // namespace texsim::pipelines::solid_synthesis

@@ -1,0 +1,214 @@
+// The bad-input corpus: every file in tests/app/bad_input/ is a config a user might write (with
+// data files in bad_input/data/), run through the binary at 2 ranks as a user would. Each must
+// end within a bounded time with exit code 2, exactly one "texsim: error" line containing the
+// expected text, no MPI_Abort banner, and the earlier runs' directories untouched.
+//
+// A case file starts with comment lines that drive the runner:
+//   # expect: TEXT            required: text the "texsim: error:" line contains
+//   # args: validate CONFIG   command-line arguments (default: CONFIG, the case file's copy)
+//   # env: NAME=VALUE         an environment variable for texsim (repeatable)
+//   # fifo: NAME              a FIFO created in the working directory before the run
+//   # repeat: TOKEN N C       TOKEN in the case text and the arguments replaced by N copies of
+//                             the character C
+// Every case runs with TEXSIM_MEMORY_LIMIT=16G unless it sets its own, so memory refusals do not
+// depend on the machine. The working directory holds a copy of data/, a finished fem_rd run in
+// previous/ and an interrupted one (frames only) in interrupted/.
+#include "support/run_command.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kCorpus = fs::path(TEXSIM_SOURCE_DIR) / "tests/app/bad_input";
+/// Generous: the slowest refusal takes a few seconds; only a hang reaches it.
+constexpr int kTimeoutSeconds = 120;
+
+struct BadInputCase {
+  std::string name;
+  std::string text;
+  std::string expect;
+  std::string args = "CONFIG";
+  std::vector<std::string> env;
+  std::vector<std::string> fifos;
+  std::vector<std::string> repeats;
+};
+
+/// gtest shows a case by its name rather than its bytes.
+void PrintTo(const BadInputCase& c, std::ostream* out) {
+  *out << c.name;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+BadInputCase parse_case(const fs::path& path) {
+  BadInputCase c;
+  c.name = path.stem().string();
+  c.text = read_text(path);
+  std::istringstream lines(c.text);
+  for (std::string line; std::getline(lines, line) && line.rfind("#", 0) == 0;) {
+    const auto directive = [&](const std::string& name) -> std::optional<std::string> {
+      const std::string prefix = "# " + name + ": ";
+      if (line.rfind(prefix, 0) != 0)
+        return std::nullopt;
+      return line.substr(prefix.size());
+    };
+    if (auto v = directive("expect"))
+      c.expect = *v;
+    else if (auto v = directive("args"))
+      c.args = *v;
+    else if (auto v = directive("env"))
+      c.env.push_back(*v);
+    else if (auto v = directive("fifo"))
+      c.fifos.push_back(*v);
+    else if (auto v = directive("repeat"))
+      c.repeats.push_back(*v);
+  }
+  return c;
+}
+
+std::vector<BadInputCase> all_cases() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(kCorpus))
+    if (entry.path().extension() == ".yaml")
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  std::vector<BadInputCase> cases;
+  for (const auto& file : files)
+    cases.push_back(parse_case(file));
+  return cases;
+}
+
+/// `text` with each "# repeat: TOKEN N C" of the case applied.
+std::string expanded(const BadInputCase& c, std::string text) {
+  for (const auto& repeat : c.repeats) {
+    std::istringstream parts(repeat);
+    std::string token;
+    std::size_t count = 0;
+    char fill = 'x';
+    parts >> token >> count >> fill;
+    for (auto pos = text.find(token); pos != std::string::npos; pos = text.find(token, pos + count))
+      text.replace(pos, token.size(), std::string(count, fill));
+  }
+  return text;
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+/// What an earlier run left in a directory: each file's bytes and modification time.
+using Snapshot = std::map<fs::path, std::pair<std::string, fs::file_time_type>>;
+
+Snapshot snapshot(const fs::path& dir) {
+  Snapshot files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file())
+      files[entry.path()] = {read_text(entry.path()), entry.last_write_time()};
+  return files;
+}
+
+/// A finished fem_rd run (summary, frames, a checkpoint) and an interrupted one (frames only).
+void make_earlier_runs(const fs::path& work) {
+  const std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\">\n<Collection>\n"
+                          "<DataSet timestep=\"0\" file=\"frames/frame_000000.pvtp\"/>\n"
+                          "</Collection>\n</VTKFile>\n";
+  for (const char* dir : {"previous", "interrupted"}) {
+    write_file(work / dir / "fem_rd.pvd", pvd);
+    write_file(work / dir / "frames/frame_000000.pvtp", "<VTKFile type=\"PPolyData\"/>\n");
+  }
+  write_file(work / "previous/summary.json", "{\"pipeline\": \"fem_rd\", \"ranks\": 2}\n");
+  write_file(work / "previous/checkpoints/step_000000010.h5", "not really HDF5");
+}
+
+std::string shell_command(const BadInputCase& c, const fs::path& config) {
+  std::vector<std::string> env = c.env;
+  const bool has_limit = std::any_of(env.begin(), env.end(), [](const std::string& e) {
+    return e.rfind("TEXSIM_MEMORY_LIMIT=", 0) == 0;
+  });
+  if (!has_limit)
+    env.push_back("TEXSIM_MEMORY_LIMIT=16G");
+  std::string command = "env";
+  std::string forwarded;
+  for (const auto& assignment : env) {
+    command += " " + assignment;
+    forwarded += " -x " + assignment.substr(0, assignment.find('='));
+  }
+  std::string args = expanded(c, c.args);
+  for (auto pos = args.find("CONFIG"); pos != std::string::npos; pos = args.find("CONFIG"))
+    args.replace(pos, 6, config.string());
+  const std::string mpirun = texsim::test::texsim_under_mpirun(2);
+  const auto binary = mpirun.rfind(' ');
+  return command + " timeout -k 10 " + std::to_string(kTimeoutSeconds) + " " +
+         mpirun.substr(0, binary) + forwarded + mpirun.substr(binary) + " " + args;
+}
+
+class BadInput : public testing::TestWithParam<BadInputCase> {};
+
+TEST_P(BadInput, ExitsTwoWithOneMessageAndTouchesNothing) {
+  const BadInputCase& c = GetParam();
+  ASSERT_FALSE(c.expect.empty()) << c.name << ": no '# expect:' line";
+  const fs::path work = fs::temp_directory_path() / "texsim_bad_input" / c.name;
+  fs::remove_all(work);
+  fs::create_directories(work);
+  fs::copy(kCorpus / "data", work / "data", fs::copy_options::recursive);
+  make_earlier_runs(work);
+  for (const auto& fifo : c.fifos)
+    ASSERT_EQ(mkfifo((work / fifo).c_str(), 0600), 0) << fifo;
+  const fs::path config = work / (c.name + ".yaml");
+  write_file(config, expanded(c, c.text));
+  const Snapshot before_previous = snapshot(work / "previous");
+  const Snapshot before_interrupted = snapshot(work / "interrupted");
+
+  const auto outcome = texsim::test::run_command(shell_command(c, config), work);
+
+  EXPECT_NE(outcome.exit_code, 124) << "timed out after " << kTimeoutSeconds << " s (a hang)";
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
+  std::vector<std::string> error_lines;
+  std::istringstream lines(outcome.output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("texsim: error") != std::string::npos)
+      error_lines.push_back(line);
+  ASSERT_EQ(error_lines.size(), 1u) << outcome.output;
+  EXPECT_NE(error_lines[0].find(c.expect), std::string::npos)
+      << "expected '" << c.expect << "' in\n"
+      << error_lines[0];
+  std::string lower = outcome.output;
+  std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+  EXPECT_EQ(lower.find("mpi_abort"), std::string::npos) << outcome.output;
+  EXPECT_LT(error_lines[0].size(), 2000u) << "an echoed name was not shortened";
+  EXPECT_EQ(snapshot(work / "previous"), before_previous) << "previous/ changed";
+  EXPECT_EQ(snapshot(work / "interrupted"), before_interrupted) << "interrupted/ changed";
+  fs::remove_all(work);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, testing::ValuesIn(all_cases()),
+                         [](const testing::TestParamInfo<BadInputCase>& info) {
+                           std::string name = info.param.name;
+                           for (char& ch : name)
+                             if (!std::isalnum(static_cast<unsigned char>(ch)))
+                               ch = '_';
+                           return name;
+                         });
+
+TEST(BadInputCorpus, HoldsAtLeastAHundredCases) {
+  EXPECT_GE(all_cases().size(), 100u);
+}
+
+} // namespace
