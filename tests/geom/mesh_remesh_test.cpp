@@ -72,7 +72,7 @@ TEST(MeshRemesh, BoundaryKeepsItsShape) {
   EXPECT_NEAR(total_area(remeshed), total_area(open), 0.05 * total_area(open));
 }
 
-TEST(MeshRemesh, MarchingCubesSliversBecomeWellShaped) {
+TEST(MeshRemeshOnRealData, MarchingCubesSliversBecomeWellShaped) {
   const std::string name = "scans/skull_ct_mc.ply";
   const auto path = test::real_data(name);
   if (path.empty())

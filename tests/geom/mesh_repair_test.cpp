@@ -144,7 +144,7 @@ TEST(MeshRepair, RepairIsDeterministic) {
 }
 
 /// A marching-cubes surface of an MRI head (scripts/fetch-data): what a user brings.
-TEST(MeshRepair, MarchingCubesHeadBecomesAManifoldSurface) {
+TEST(MeshRepairOnRealData, MarchingCubesHeadBecomesAManifoldSurface) {
   const std::string name = "scans/ch2_head_mc_2mm.ply";
   const auto path = test::real_data(name);
   if (path.empty())
