@@ -8,7 +8,6 @@
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
@@ -43,12 +42,9 @@ NonManifoldSplit split_non_manifold(TriangleMesh& mesh) {
   for (const auto& tri : mesh.triangles)
     polygons.push_back({std::size_t(tri[0]), std::size_t(tri[1]), std::size_t(tri[2])});
 
-  // geom::repair() already removed what repair_polygon_soup removes (coincident points, repeated
-  // corners, duplicate and unused elements), so it renumbers nothing here; it stays as the guard
-  // that polygon_soup_to_polygon_mesh's preconditions hold.
-  PMP::repair_polygon_soup(points, polygons);
-  TEXSIM_VERIFY(polygons.size() == mesh.triangles.size() && points.size() == mesh.positions.size(),
-                "repair_polygon_soup removed elements geom::repair() should have removed");
+  // geom::repair() has already done what CGAL's repair_polygon_soup would (drop repeated corners,
+  // duplicate triangles and unused points) but without merging coincident points: those may be
+  // the copies of an earlier split (a remeshed surface is repaired again), which must stay apart.
   const std::size_t original_points = points.size();
   PMP::orient_polygon_soup(points, polygons);
   TEXSIM_VERIFY(PMP::is_polygon_soup_a_polygon_mesh(polygons),

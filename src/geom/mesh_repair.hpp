@@ -16,11 +16,12 @@ struct NonManifoldSplit {
 };
 
 /// Turns a mesh with non-manifold edges or vertices, or inconsistently oriented triangles, into a
-/// manifold, consistently oriented one: CGAL's repair_polygon_soup, orient_polygon_soup (which
-/// cuts the triangles at an edge shared by more than two of them apart and duplicates pinched
-/// vertices), polygon_soup_to_polygon_mesh and duplicate_non_manifold_vertices. Expects finite
-/// positions, indices in range and no degenerate or duplicate triangles (geom::repair() removes
-/// them first). Triangles keep their order; vertices keep their indices, copies are appended.
+/// manifold, consistently oriented one: CGAL's orient_polygon_soup (which cuts the triangles at
+/// an edge shared by more than two of them apart and duplicates pinched vertices),
+/// polygon_soup_to_polygon_mesh and duplicate_non_manifold_vertices. Expects finite positions,
+/// indices in range and no degenerate or duplicate triangles nor unused vertices (geom::repair()
+/// removes them first, as CGAL's repair_polygon_soup would, but keeps coincident vertices apart
+/// when asked to). Triangles keep their order; vertices keep their indices, copies are appended.
 /// Serial; deterministic.
 NonManifoldSplit split_non_manifold(TriangleMesh& mesh);
 

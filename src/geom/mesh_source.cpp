@@ -112,6 +112,13 @@ TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildR
     built.vertices_before_remesh = mesh.num_vertices();
     built.triangles_before_remesh = mesh.num_triangles();
     mesh = remesh_isotropic(mesh, *source.remesh);
+    // Remeshing next to the coincident copies of split vertices can leave triangles of zero area;
+    // drop them (and whatever that leaves) without merging the copies again.
+    auto cleanup = MeshSource::fix_repair_options();
+    cleanup.merge_coincident_vertices = false;
+    cleanup.min_component_fraction = source.repair.min_component_fraction;
+    built.remesh_repairs =
+        repair(mesh, cleanup, built.from_file ? source.file.string() : "remeshed surface");
   }
   if (report != nullptr)
     *report = built;
@@ -135,10 +142,13 @@ void record_mesh_build(const MeshBuildReport& report, RunReport& run) {
   if (report.remeshed) {
     run.metric("mesh_remesh", {{"edge_length", report.remesh_edge_length},
                                {"vertices_before", report.vertices_before_remesh},
-                               {"triangles_before", report.triangles_before_remesh}});
+                               {"triangles_before", report.triangles_before_remesh},
+                               {"repairs_after", report.remesh_repairs.metrics()}});
     log::info(log::cat("remeshed towards edge length ", report.remesh_edge_length, " from ",
-                       report.vertices_before_remesh, " vertices, ", report.triangles_before_remesh,
-                       " triangles"));
+                       report.vertices_before_remesh, " vertices, ",
+                       report.triangles_before_remesh, " triangles; repairs after: ",
+                       report.remesh_repairs.changed() ? report.remesh_repairs.summary()
+                                                       : "none"));
   }
 }
 

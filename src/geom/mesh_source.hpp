@@ -57,6 +57,7 @@ struct MeshBuildReport {
   bool remeshed = false;
   double remesh_edge_length = 0;
   std::int64_t vertices_before_remesh = 0, triangles_before_remesh = 0;
+  RepairReport remesh_repairs; ///< what the clean-up after remeshing removed
 };
 
 /// Reads (with the repairs of geom::repair as `source.repair` says, reported through `report` when
