@@ -21,9 +21,12 @@ std::uint64_t require_regular_file(const std::filesystem::path& path, const std:
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
   const std::string name = shortened(path.string());
-  if (error || !std::filesystem::exists(status))
-    TEXSIM_INPUT_ERROR(name << ": no such file (" << (error ? error.message() : "missing")
-                            << "); expected a " << what);
+  if (!std::filesystem::exists(status)) {
+    const bool plain_missing = !error || error == std::errc::no_such_file_or_directory;
+    TEXSIM_INPUT_ERROR(name << ": no such file"
+                            << (plain_missing ? "" : " (" + error.message() + ")")
+                            << "; expected a " << what);
+  }
   if (std::filesystem::is_directory(status))
     TEXSIM_INPUT_ERROR(name << ": is a directory; expected a " << what);
   if (!std::filesystem::is_regular_file(status))

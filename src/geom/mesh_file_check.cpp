@@ -196,13 +196,16 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
       }
       property.type = *type;
       header.elements.back().properties.push_back(property);
-    } else {
-      refuse(path, where(), ": '", shortened(std::string(line)),
-             "'; expected format, element, property, comment or end_header");
     }
+    // Like VTK, other lines are ignored: exporters write free text there ("Created by ...").
   }
   if (!ended)
     refuse(path, "PLY header has no 'end_header' line");
+  // VTK 9.1's reader crashes on an element without properties (found by fuzz/).
+  for (const auto& element : header.elements)
+    if (element.properties.empty())
+      refuse(path, "PLY element '", shortened(element.name, 40),
+             "' has no properties; expected at least one");
   if (!has_format)
     refuse(path, "PLY header has no 'format' line");
   header.body_offset = lines.position();
@@ -219,6 +222,13 @@ struct PlyRoles {
   int indices = -1;            ///< property of the face element holding the vertex indices
 };
 
+std::string element_order(const PlyHeader& header) {
+  std::string order;
+  for (const auto& element : header.elements)
+    order += (order.empty() ? "" : ", ") + shortened(element.name, 40);
+  return order;
+}
+
 PlyRoles find_roles(const std::filesystem::path& path, const PlyHeader& header) {
   PlyRoles roles;
   for (const auto& element : header.elements) {
@@ -229,6 +239,11 @@ PlyRoles find_roles(const std::filesystem::path& path, const PlyHeader& header) 
   }
   if (roles.vertex == nullptr)
     refuse(path, "PLY header has no 'vertex' element; expected one with x, y and z");
+  // VTK 9.1's reader crashes on any other order (found by fuzz/): vertex first, then face.
+  const PlyElement* second = header.elements.size() > 1 ? &header.elements[1] : nullptr;
+  if (roles.vertex != &header.elements.front() || (roles.face != nullptr && roles.face != second))
+    refuse(path, "PLY elements in the order ", element_order(header),
+           "; expected vertex first, then face, then any others");
   int found = 0;
   for (const auto& property : roles.vertex->properties) {
     const auto& n = property.name;
@@ -277,12 +292,14 @@ public:
 private:
   void next_ascii_line(Lines& lines, const PlyElement& element, std::uint64_t i) {
     std::string_view line;
-    do {
-      if (!lines.next(line))
-        truncated(element, i);
-      words_ = words_of(line);
-    } while (words_.empty());
+    if (!lines.next(line))
+      truncated(element, i);
+    words_ = words_of(line);
     word_ = 0;
+    // VTK 9.1's reader frees memory it does not own on an empty line (found by fuzz/).
+    if (words_.empty())
+      refuse(path_, "PLY ", element.name, " ", i, " is an empty line (line ",
+             header_.body_line + lines.number() - 1, "); expected one element per line");
   }
 
   [[noreturn]] void truncated(const PlyElement& element, std::uint64_t i) const {
@@ -388,6 +405,78 @@ bool looks_binary(std::string_view text) {
   return n > 0 && double(other) / double(n) >= 0.05;
 }
 
+/// ASCII STL, line by line: "solid NAME", then per triangle "facet normal N N N", "outer loop",
+/// three "vertex X Y Z" with finite numbers, "endloop", "endfacet"; "endsolid NAME" (several
+/// solids may follow each other). VTK 9.1's reader runs out of memory on text outside this grammar
+/// (found by fuzz/).
+MeshFileCounts check_ascii_stl(const std::filesystem::path& path, std::string_view text) {
+  enum class Expect { solid, facet, loop, vertex, endloop, endfacet };
+  static constexpr const char* kExpected[] = {
+      "solid", "facet normal or endsolid", "outer loop", "vertex X Y Z", "endloop", "endfacet"};
+  Expect expect = Expect::solid;
+  int corners = 0;
+  MeshFileCounts counts;
+  Lines lines(text);
+  std::string_view line;
+  while (lines.next(line)) {
+    const auto words = words_of(line);
+    if (words.empty())
+      continue;
+    const auto bad = [&] {
+      refuse(path, lines.number(), ": '", shortened(std::string(line), 80), "'; expected ",
+             kExpected[int(expect)], " (ASCII STL)");
+    };
+    switch (expect) {
+    case Expect::solid:
+      if (words[0] != "solid")
+        bad();
+      expect = Expect::facet;
+      break;
+    case Expect::facet:
+      if (words[0] == "endsolid") {
+        expect = Expect::solid;
+        break;
+      }
+      if (words[0] != "facet" || words.size() != 5 || words[1] != "normal")
+        bad();
+      expect = Expect::loop;
+      break;
+    case Expect::loop:
+      if (words.size() != 2 || words[0] != "outer" || words[1] != "loop")
+        bad();
+      expect = Expect::vertex;
+      corners = 0;
+      break;
+    case Expect::vertex:
+      if (words[0] != "vertex" || words.size() != 4)
+        bad();
+      for (std::size_t axis = 1; axis < 4; ++axis) {
+        const auto v = parse_number<double>(words[axis]);
+        if (!v || !std::isfinite(*v))
+          refuse(path, lines.number(), ": '", shortened(std::string(line), 80),
+                 "'; expected 'vertex X Y Z' with three finite numbers");
+      }
+      ++counts.vertices;
+      expect = ++corners == 3 ? Expect::endloop : Expect::vertex;
+      break;
+    case Expect::endloop:
+      if (words.size() != 1 || words[0] != "endloop")
+        bad();
+      expect = Expect::endfacet;
+      break;
+    case Expect::endfacet:
+      if (words.size() != 1 || words[0] != "endfacet")
+        bad();
+      ++counts.faces;
+      expect = Expect::facet;
+      break;
+    }
+  }
+  if (expect != Expect::solid && expect != Expect::facet)
+    refuse(path, "ASCII STL ends inside a facet; expected ", kExpected[int(expect)]);
+  return counts;
+}
+
 MeshFileCounts check_stl(const std::filesystem::path& path, std::string_view text) {
   if (text.empty())
     refuse(path, "empty file; expected an STL mesh");
@@ -404,23 +493,7 @@ MeshFileCounts check_stl(const std::filesystem::path& path, std::string_view tex
              " bytes) but the file has ", text.size(), " bytes");
     return {3 * std::uint64_t(count), count};
   }
-  MeshFileCounts counts;
-  Lines lines(text);
-  std::string_view line;
-  while (lines.next(line)) {
-    const auto words = words_of(line);
-    if (words.empty() || words[0] != "vertex")
-      continue;
-    ++counts.vertices;
-    for (std::size_t axis = 1; axis < 4; ++axis) {
-      const auto v = axis < words.size() ? parse_number<double>(words[axis]) : std::nullopt;
-      if (!v || !std::isfinite(*v))
-        refuse(path, lines.number(), ": '", shortened(std::string(line)),
-               "'; expected 'vertex X Y Z' with three finite numbers");
-    }
-  }
-  counts.faces = counts.vertices / 3;
-  return counts;
+  return check_ascii_stl(path, text);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -429,14 +502,30 @@ MeshFileCounts check_stl(const std::filesystem::path& path, std::string_view tex
 /// Index `word` (before any '/') of an OBJ face corner, checked against `count` elements
 /// defined so far (negative indices count back from the last one).
 void check_obj_index(const std::filesystem::path& path, std::int64_t line, std::string_view word,
-                     std::uint64_t count, const char* kind) {
+                     std::uint64_t count, const char* kind, const char* kinds) {
   if (word.empty())
     return;
   const auto index = parse_number<std::int64_t>(word);
   if (!index || *index == 0 || (*index > 0 && std::uint64_t(*index) > count) ||
       (*index < 0 && std::uint64_t(-*index) > count))
-    refuse(path, line, ": face refers to ", kind, " '", shortened(std::string(word)), "' but ",
-           count, " ", kind, "s are defined before it; expected 1..", count, " or -1..-", count);
+    refuse(path, line, ": face refers to ", kind, " '", shortened(std::string(word)), "' but only ",
+           count, " ", kinds, " are defined before it; expected 1..", count, " or -1..-", count);
+}
+
+/// Which indices an OBJ face corner gives: "v", "v/vt", "v//vn", "v/vt/vn" (and "v/" etc.).
+std::string corner_form(std::string_view corner) {
+  std::string form;
+  bool in_number = false;
+  for (const char c : corner) {
+    if (c == '/') {
+      form += '/';
+      in_number = false;
+    } else if (!in_number) {
+      form += 'n';
+      in_number = true;
+    }
+  }
+  return form;
 }
 
 MeshFileCounts check_obj(const std::filesystem::path& path, std::string_view text) {
@@ -464,16 +553,23 @@ MeshFileCounts check_obj(const std::filesystem::path& path, std::string_view tex
       ++counts.faces;
       for (std::size_t k = 1; k < words.size(); ++k) {
         const auto corner = words[k];
+        // VTK 9.1's reader crashes when corners of one face differ in form (found by fuzz/).
+        if (corner_form(corner) != corner_form(words[1]))
+          refuse(path, lines.number(), ": face corners '", shortened(std::string(words[1]), 40),
+                 "' and '", shortened(std::string(corner), 40),
+                 "' differ in form; expected all v, v/vt, v//vn or v/vt/vn");
         const auto slash = corner.find('/');
-        check_obj_index(path, lines.number(), corner.substr(0, slash), counts.vertices, "vertex");
+        check_obj_index(path, lines.number(), corner.substr(0, slash), counts.vertices, "vertex",
+                        "vertices");
         if (slash == std::string_view::npos)
           continue;
         const auto rest = corner.substr(slash + 1);
         const auto second = rest.find('/');
         check_obj_index(path, lines.number(), rest.substr(0, second), texture_coordinates,
-                        "texture coordinate");
+                        "texture coordinate", "texture coordinates");
         if (second != std::string_view::npos)
-          check_obj_index(path, lines.number(), rest.substr(second + 1), normals, "normal");
+          check_obj_index(path, lines.number(), rest.substr(second + 1), normals, "normal",
+                          "normals");
       }
     }
   }

@@ -122,7 +122,7 @@ TEST(Config, BadYamlAndMissingFileNameTheSource) {
             std::string::npos);
   EXPECT_NE(test::input_error_message([] {
               ConfigDocument::load("/nonexistent/x.yaml");
-            }).find("/nonexistent/x.yaml: cannot open"),
+            }).find("/nonexistent/x.yaml: no such file"),
             std::string::npos);
 }
 

@@ -132,12 +132,22 @@ def main():
     write("ply_not_a_number.ply", ply_ascii(vertices=TETRA_V[:3] + [("zero", 0, 1)]))
     write("ply_missing_magic.ply", "format ascii 1.0\nelement vertex 0\nend_header\n")
     write("ply_empty.ply", "")
+    # Files on which VTK 9.1's readers crash (found by fuzz/): refused before VTK sees them.
+    write("ply_face_before_vertex.ply",
+          "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+          "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+          "3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n")
+    write("ply_element_without_properties.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+          "property float z\nelement extra 1\nend_header\n0 0 0\n1 0 0\n0 1 0\n1\n")
+    write("ply_empty_body_line.ply", ply_ascii().replace("end_header\n", "end_header\n\n"))
     # STL
     write("stl_count_exceeds_data.stl", stl_binary(1000, [TETRA_V[:3]]))
     write("stl_short_header.stl", b"\x00\x01\x02" * 10)
     write("stl_ascii_nan.stl", stl_ascii("nan"))
     write("stl_ascii_inf.stl", stl_ascii("-inf"))
     write("stl_empty.stl", "")
+    write("stl_ascii_outside_grammar.stl", stl_ascii().replace("outer loop", "outer lop"))
     # OBJ
     write("obj_nan_vertex.obj", obj(vertices=TETRA_V[:3] + [("nan", "0", "1")]))
     write("obj_inf_vertex.obj", obj(vertices=TETRA_V[:3] + [("0", "inf", "1")]))
@@ -145,6 +155,7 @@ def main():
     write("obj_face_index_zero.obj", obj(extra="f 0 1 2\n"))
     write("obj_short_vertex.obj", obj(extra="v 1 2\n"))
     write("obj_no_faces.obj", obj(faces=[]))
+    write("obj_mixed_corner_forms.obj", obj(extra="vn 0 0 1\nf 1//1 2/ 3\n"))
     write("obj_texture_index_out_of_range.obj", obj(extra="vt 0 0\nf 1/1 2/5 3/1\n"))
     # OFF
     write("off_nan_vertex.off", off(vertices=TETRA_V[:3] + [("nan", 0, 1)]))
