@@ -27,6 +27,8 @@ EXPECTED = {
     "turk": (["cells", "relax_100k_s", "cell_updates_per_s_n2", "bandwidth_fraction"],
              ["solver_finite", "fused_matches_solver"]),
     "partition": (["elephant_cut_scotch_2", "elephant_cut_morton_2", "elephant_cut_ratio_3"], []),
+    "raw-scan": (["fem_jacobi_cg_iterations_per_step", "fem_auto_cg_iterations_per_step",
+                  "turk_substeps", "vertices"], []),
 }
 
 
