@@ -145,10 +145,9 @@ void record_mesh_build(const MeshBuildReport& report, RunReport& run) {
                                {"triangles_before", report.triangles_before_remesh},
                                {"repairs_after", report.remesh_repairs.metrics()}});
     log::info(log::cat("remeshed towards edge length ", report.remesh_edge_length, " from ",
-                       report.vertices_before_remesh, " vertices, ",
-                       report.triangles_before_remesh, " triangles; repairs after: ",
-                       report.remesh_repairs.changed() ? report.remesh_repairs.summary()
-                                                       : "none"));
+                       report.vertices_before_remesh, " vertices, ", report.triangles_before_remesh,
+                       " triangles; repairs after: ",
+                       report.remesh_repairs.changed() ? report.remesh_repairs.summary() : "none"));
   }
 }
 
