@@ -256,8 +256,9 @@ public:
     current_->set_owned(initial);
   }
 
-  /// One explicit step. Collective.
-  void step() {
+  /// One explicit step of `dt` (the solver's substep when dt exceeds its stability limit).
+  /// Collective.
+  void step(double dt) {
     const auto cur = current_->local();
     const auto next = next_->owned();
     const std::int64_t* offsets = offsets_.data();
@@ -275,8 +276,8 @@ public:
       }
       const double rate_a = da * la + (-s * b) * a + 16.0 * s;
       const double rate_b = db * lb + (s * (a - 1.0)) * b + (-s * beta_[k]);
-      next[2 * std::size_t(k)] = std::max(a + kDt * rate_a, 0.0);
-      next[2 * std::size_t(k) + 1] = std::max(b + kDt * rate_b, 0.0);
+      next[2 * std::size_t(k)] = std::max(a + dt * rate_a, 0.0);
+      next[2 * std::size_t(k) + 1] = std::max(b + dt * rate_b, 0.0);
     }
     std::swap(current_, next_);
     current_->update_ghosts();
@@ -308,7 +309,8 @@ double fused_vs_solver(const Comm& comm, const geom::SurfaceCells& cells,
   FusedTuringStep fused(comm, cells, p, seed, morton_order);
   for (int n = 0; n < steps; ++n) {
     solver.step(n * kDt);
-    fused.step();
+    for (std::int64_t k = 0; k < solver.substeps(); ++k)
+      fused.step(solver.substep_dt());
   }
   double worst = 0;
   for (int s = 0; s < 2; ++s) {
@@ -470,11 +472,16 @@ int main(int argc, char** argv) {
   texsim::pipelines::turk_rd::CellRdSolver solver(comm, *cells, *model, scale, kDt);
   FusedTuringStep fused(comm, *cells, turing, settings.seed, false);
   FusedTuringStep fused_morton(comm, *cells, turing, settings.seed, true);
+  // The fused kernels take the solver's substeps, so both do the same work per step.
+  const auto fused_step = [&](FusedTuringStep& kernel) {
+    for (std::int64_t k = 0; k < solver.substeps(); ++k)
+      kernel.step(solver.substep_dt());
+  };
   double t = 0;
   for (int n = 0; n < settings.warmup; ++n, t += kDt) {
     solver.step(t);
-    fused.step();
-    fused_morton.step();
+    fused_step(fused);
+    fused_step(fused_morton);
   }
   std::vector<double> run_s, fused_run_s, fused_morton_run_s;
   const auto time_run = [&](const std::function<void()>& step) {
@@ -488,8 +495,8 @@ int main(int argc, char** argv) {
       solver.step(t);
       t += kDt;
     }));
-    fused_run_s.push_back(time_run([&] { fused.step(); }));
-    fused_morton_run_s.push_back(time_run([&] { fused_morton.step(); }));
+    fused_run_s.push_back(time_run([&] { fused_step(fused); }));
+    fused_morton_run_s.push_back(time_run([&] { fused_step(fused_morton); }));
   }
   const double solver_run_s = median(run_s);
   const double step_s = solver_run_s / settings.steps;
@@ -571,6 +578,7 @@ int main(int argc, char** argv) {
          {{"model", "turing_spots s=0.05"},
           {"dt", kDt},
           {"max_stable_dt", solver.max_stable_dt()},
+          {"substeps", solver.substeps()},
           {"warmup_steps", settings.warmup},
           {"steps", settings.steps},
           {"step_repeats", settings.step_repeats},
