@@ -15,6 +15,15 @@ bool is_checkpoint_argument(const std::string& text) {
   return text == "latest" || (text.size() > 3 && text.compare(text.size() - 3, 3, ".h5") == 0);
 }
 
+/// PETSc reads -options_file FILE while it starts, before texsim can report anything: a missing
+/// file would abort every rank, a FIFO or /dev/zero would hang them.
+void check_options_file(const std::string& option, const std::string& file) {
+  constexpr std::uint64_t kMaxOptionsFileBytes = 1 << 20;
+  if (file.empty())
+    throw InputError(option + " needs a file name");
+  require_regular_file(file, "PETSc options file for " + option, kMaxOptionsFileBytes);
+}
+
 [[noreturn]] void unknown_option(const std::string& option) {
   std::string hint;
   for (const char* known : kOptions)
@@ -79,6 +88,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       line.petsc_args.push_back(arg);
       if (has_next && argv[i + 1][0] != '-')
         line.petsc_args.push_back(argv[++i]);
+      if (arg.rfind("-options_file", 0) == 0)
+        check_options_file(arg, line.petsc_args.back() == arg ? "" : line.petsc_args.back());
     } else {
       positional.push_back(arg);
     }

@@ -11,8 +11,9 @@ namespace texsim::app {
 /// Ranks of `comm` that share this rank's node (MPI_COMM_TYPE_SHARED). Collective.
 int ranks_on_node(const par::Comm& comm);
 
-/// Refuses the run (InputError on every rank, naming the key) when `estimate` exceeds the memory
-/// of the node divided among its ranks (core/memory_budget). Collective.
+/// Refuses the run (InputError on every rank, naming the key) when `estimate`, plus what the
+/// libraries take, exceeds the memory of the node divided among its ranks (core/memory_budget).
+/// Collective.
 void require_memory_per_rank(const par::Comm& comm, const MemoryEstimate& estimate);
 
 /// "memory: about 1.2 GiB per rank at 2 ranks (key: detail); 11 GiB available per rank

@@ -45,7 +45,10 @@ MemoryEstimate estimate_mesh_memory(const MeshSource& source, const std::string&
       (source.subdivision_levels > 0
            ? " after " + std::to_string(source.subdivision_levels) + " Loop subdivision levels"
            : std::string()) +
-      ", about " + std::to_string(replicated_bytes) + " bytes each on every rank";
+      ", about " + std::to_string(replicated_bytes) + " bytes each on every rank" +
+      (distributed_bytes > 0
+           ? " and " + std::to_string(distributed_bytes) + " divided among the ranks"
+           : std::string());
   return estimate;
 }
 

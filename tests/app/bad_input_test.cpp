@@ -8,6 +8,7 @@
 //   # args: validate CONFIG   command-line arguments (default: CONFIG, the case file's copy)
 //   # env: NAME=VALUE         an environment variable for texsim (repeatable)
 //   # fifo: NAME              a FIFO created in the working directory before the run
+//   # ulimit: KIB             the address space of each process, in KiB (ulimit -v)
 //   # repeat: TOKEN N C       TOKEN in the case text and the arguments replaced by N copies of
 //                             the character C
 // Every case runs with TEXSIM_MEMORY_LIMIT=16G unless it sets its own, so memory refusals do not
@@ -42,6 +43,7 @@ struct BadInputCase {
   std::vector<std::string> env;
   std::vector<std::string> fifos;
   std::vector<std::string> repeats;
+  std::string address_space_kib;
 };
 
 /// gtest shows a case by its name rather than its bytes.
@@ -78,6 +80,8 @@ BadInputCase parse_case(const fs::path& path) {
       c.fifos.push_back(*v);
     else if (auto v = directive("repeat"))
       c.repeats.push_back(*v);
+    else if (auto v = directive("ulimit"))
+      c.address_space_kib = *v;
   }
   return c;
 }
@@ -144,7 +148,8 @@ std::string shell_command(const BadInputCase& c, const fs::path& config) {
   });
   if (!has_limit)
     env.push_back("TEXSIM_MEMORY_LIMIT=16G");
-  std::string command = "env";
+  std::string command =
+      c.address_space_kib.empty() ? "env" : "ulimit -v " + c.address_space_kib + " && env";
   std::string forwarded;
   for (const auto& assignment : env) {
     command += " " + assignment;

@@ -18,7 +18,8 @@ public:
   /// Reads `mesh_prep.input` (see geom/mesh_source.hpp).
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
-  /// The whole mesh on every rank, with its CGAL subdivision and topology (measured peak).
+  /// The whole mesh on every rank, with its CGAL subdivision and topology (measured: 466 MiB
+  /// peak for 1.3 million triangles, estimated 500 MiB).
   MemoryEstimate estimate_memory(int ranks) const override {
     return geom::estimate_mesh_memory(source_, "mesh_prep.input", ranks, 400, 0);
   }
