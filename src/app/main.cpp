@@ -173,5 +173,9 @@ int main(int argc, char** argv) {
       exit_code = error_report.finish(std::current_exception());
     }
   }
+  // PetscFinalize restores the signal handlers it found at start-up (the default: die). A stop
+  // signal that arrives now, after the work is done, must not turn a finished run into a killed
+  // one.
+  install_stop_signal_handlers();
   return exit_code;
 }
