@@ -195,6 +195,10 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
                "'; expected 'property TYPE NAME' with TYPE among ", kPlyTypes);
       }
       property.type = *type;
+      for (const auto& other : header.elements.back().properties)
+        if (other.name == property.name)
+          refuse(path, where(), ": property '", shortened(property.name, 40), "' of element '",
+                 shortened(header.elements.back().name, 40), "' declared twice");
       header.elements.back().properties.push_back(property);
     }
     // Like VTK, other lines are ignored: exporters write free text there ("Created by ...").

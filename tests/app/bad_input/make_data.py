@@ -140,6 +140,7 @@ def main():
     write("ply_element_without_properties.ply",
           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
           "property float z\nelement extra 1\nend_header\n0 0 0\n1 0 0\n0 1 0\n1\n")
+    write("ply_duplicate_property.ply", ply_ascii(vertex_props=("x", "y", "x")))
     write("ply_empty_body_line.ply", ply_ascii().replace("end_header\n", "end_header\n\n"))
     # STL
     write("stl_count_exceeds_data.stl", stl_binary(1000, [TETRA_V[:3]]))
