@@ -147,6 +147,11 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
   while (!ended && lines.next(line)) {
     const auto words = words_of(line);
     const auto where = [&] { return "header line " + std::to_string(lines.number()); };
+    // VTK 9.1's reader crashes on a NUL byte in the header (found by fuzz/).
+    if (std::any_of(line.begin(), line.end(), [](char c) {
+          return static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r';
+        }))
+      refuse(path, where(), " holds a control character; expected a text header");
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info")
       continue;
     if (words[0] == "end_header") {

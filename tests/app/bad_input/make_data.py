@@ -145,6 +145,7 @@ def main():
               "property float z\n", "property float z\nproperty list uchar int extra\n", 1)
           .replace("0 0 0\n", "0 0 0 0\n").replace("1 0 0\n", "1 0 0 0\n")
           .replace("0 1 0\n", "0 1 0 0\n").replace("0 0 1\n", "0 0 1 0\n"))
+    write("ply_nul_in_header.ply", ply_ascii().replace("element face", "\0\0\1face", 1))
     write("ply_duplicate_property.ply", ply_ascii(vertex_props=("x", "y", "x")))
     write("ply_empty_body_line.ply", ply_ascii().replace("end_header\n", "end_header\n\n"))
     # STL
