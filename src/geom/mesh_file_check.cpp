@@ -147,6 +147,11 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
   while (!ended && lines.next(line)) {
     const auto words = words_of(line);
     const auto where = [&] { return "header line " + std::to_string(lines.number()); };
+    // VTK 9.1's reader crashes on a NUL byte in the header (found by fuzz/).
+    if (std::any_of(line.begin(), line.end(), [](char c) {
+          return static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r';
+        }))
+      refuse(path, where(), " holds a control character; expected a text header");
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info")
       continue;
     if (words[0] == "end_header") {
@@ -195,6 +200,10 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
                "'; expected 'property TYPE NAME' with TYPE among ", kPlyTypes);
       }
       property.type = *type;
+      for (const auto& other : header.elements.back().properties)
+        if (other.name == property.name)
+          refuse(path, where(), ": property '", shortened(property.name, 40), "' of element '",
+                 shortened(header.elements.back().name, 40), "' declared twice");
       header.elements.back().properties.push_back(property);
     }
     // Like VTK, other lines are ignored: exporters write free text there ("Created by ...").
@@ -248,8 +257,10 @@ PlyRoles find_roles(const std::filesystem::path& path, const PlyHeader& header) 
   for (const auto& property : roles.vertex->properties) {
     const auto& n = property.name;
     const int axis = n == "x" ? 0 : n == "y" ? 1 : n == "z" ? 2 : -1;
-    if (axis >= 0 && property.list_count)
-      refuse(path, "PLY vertex property '", n, "' is a list; expected a number");
+    // VTK 9.1's reader crashes on any list property of the vertex element (found by fuzz/).
+    if (property.list_count)
+      refuse(path, "PLY vertex property '", shortened(n, 40),
+             "' is a list; expected numbers only in the vertex element");
     roles.coordinate.push_back(axis);
     found += axis >= 0;
   }

@@ -140,6 +140,13 @@ def main():
     write("ply_element_without_properties.ply",
           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
           "property float z\nelement extra 1\nend_header\n0 0 0\n1 0 0\n0 1 0\n1\n")
+    write("ply_vertex_list_property.ply",
+          ply_ascii(vertex_props=("x", "y", "z"), header_extra="").replace(
+              "property float z\n", "property float z\nproperty list uchar int extra\n", 1)
+          .replace("0 0 0\n", "0 0 0 0\n").replace("1 0 0\n", "1 0 0 0\n")
+          .replace("0 1 0\n", "0 1 0 0\n").replace("0 0 1\n", "0 0 1 0\n"))
+    write("ply_nul_in_header.ply", ply_ascii().replace("element face", "\0\0\1face", 1))
+    write("ply_duplicate_property.ply", ply_ascii(vertex_props=("x", "y", "x")))
     write("ply_empty_body_line.ply", ply_ascii().replace("end_header\n", "end_header\n\n"))
     # STL
     write("stl_count_exceeds_data.stl", stl_binary(1000, [TETRA_V[:3]]))
