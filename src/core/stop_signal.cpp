@@ -40,9 +40,8 @@ int received_stop_signal() {
   return g_stop_signal;
 }
 
-CheckpointedStop::CheckpointedStop(int signal_number, std::int64_t step, const std::string& where)
+CheckpointedStop::CheckpointedStop(int signal_number, const std::string& where)
     : std::runtime_error(signal_name(signal_number) + " received: checkpoint written " + where +
-                         "; resubmit with --restart to continue"),
-      signal_number_(signal_number), step_(step) {}
+                         "; resubmit with --restart to continue") {}
 
 } // namespace texsim

@@ -2,7 +2,6 @@
 /// The warning a scheduler sends before it kills a job (SIGTERM from Slurm, PBS or mpirun; SIGUSR1
 /// from `sbatch --signal=USR1@...`): the handler only records the signal, and the pipelines look
 /// at it between steps (par::CheckpointClock), write a checkpoint and stop with exit code 3.
-#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -19,17 +18,12 @@ void install_stop_signal_handlers();
 /// each rank sees only its own signals; par::CheckpointClock agrees on them.
 int received_stop_signal();
 
-/// Thrown on every rank by a pipeline that stopped after writing the checkpoint at `step`; main()
-/// catches it, writes no summary.json and exits with kExitCheckpointed.
+/// Thrown on every rank by a pipeline that stopped after writing its checkpoint (`where` says at
+/// which point, for the message); main() catches it, writes no summary.json and exits with
+/// kExitCheckpointed.
 class CheckpointedStop : public std::runtime_error {
 public:
-  CheckpointedStop(int signal_number, std::int64_t step, const std::string& where);
-  int signal_number() const { return signal_number_; }
-  std::int64_t step() const { return step_; }
-
-private:
-  int signal_number_;
-  std::int64_t step_;
+  CheckpointedStop(int signal_number, const std::string& where);
 };
 
 } // namespace texsim

@@ -155,7 +155,7 @@ void FemRdPipeline::run(RunContext& ctx) {
       save_state(store, done, *mesh, solver, geometry);
     }
     if (decision.stop)
-      throw CheckpointedStop(decision.signal_number, done, "after step " + std::to_string(done));
+      throw CheckpointedStop(decision.signal_number, "after step " + std::to_string(done));
     progress.update(done);
   }
   progress.finish();

@@ -159,7 +159,7 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
           // Stopped inside a level: the finished level before it is what a restart needs.
           auto checkpoint = ctx.timers.scope("checkpoint");
           save_level(comm, store, *slab, exemplar.content_hash);
-          throw CheckpointedStop(stop_signal, level - 1,
+          throw CheckpointedStop(stop_signal,
                                  log::cat("after level ", level - 1, " (level ", level,
                                           " was stopped between correction subpasses)"));
         }
@@ -177,7 +177,7 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
         save_level(comm, store, *slab, exemplar.content_hash);
       }
       if (decision.stop)
-        throw CheckpointedStop(decision.signal_number, level, log::cat("after level ", level));
+        throw CheckpointedStop(decision.signal_number, log::cat("after level ", level));
       progress.update(level + 1);
     }
     progress.finish();

@@ -369,7 +369,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
         save_cascade(store, global, cells, now);
       }
       if (decision.stop)
-        throw CheckpointedStop(decision.signal_number, global,
+        throw CheckpointedStop(decision.signal_number,
                                log::cat("in stage '", stage.name, "' after step ", done));
       progress.update(global);
     }
