@@ -1,7 +1,7 @@
 #include "pipelines/turk_rd/initiators.hpp"
 
 #include "core/error.hpp"
-#include "pipelines/turk_rd/cell_expression.hpp"
+#include "geom/point_expression.hpp"
 
 #include <mpi.h>
 
@@ -40,8 +40,9 @@ std::vector<char> select_initiator_cells(const par::Comm& comm, const geom::Surf
     std::vector<double> xyz;
     for (const auto& p : cells.points())
       xyz.insert(xyz.end(), p.position.data(), p.position.data() + 3);
-    const auto value = CellExpression(initiator.region, names, initiator.key_path + ".region")
-                           .evaluate(xyz, columns);
+    const auto value =
+        geom::PointExpression(initiator.region, names, initiator.key_path + ".region")
+            .evaluate(xyz, columns);
     for (std::int32_t i = 0; i < n; ++i)
       selected[i] = value[i] != 0.0;
   }

@@ -6,13 +6,13 @@
 #include "core/stop_signal.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/point_expression.hpp"
 #include "geom/surface_field_sampler.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "par/global_median.hpp"
 #include "par/global_range.hpp"
 #include "pipelines/turk_rd/cascade_checkpoint.hpp"
-#include "pipelines/turk_rd/cell_expression.hpp"
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
 #include "pipelines/turk_rd/initiators.hpp"
 #include "pipelines/turk_rd/pattern_frames.hpp"
@@ -72,9 +72,9 @@ std::vector<double> diffusion_scale(const par::Comm& comm, const TurkRdSettings&
   std::vector<double> scale;
   par::run_collectively(comm, [&] {
     const auto xyz = owned_xyz(cells);
-    scale =
-        CellExpression(settings.diffusion_scale, settings.mesh_fields, "turk_rd.diffusion_scale")
-            .evaluate(xyz, columns(mesh_fields, settings.mesh_fields));
+    scale = geom::PointExpression(settings.diffusion_scale, settings.mesh_fields,
+                                  "turk_rd.diffusion_scale")
+                .evaluate(xyz, columns(mesh_fields, settings.mesh_fields));
     for (std::size_t i = 0; i < scale.size(); ++i)
       if (!(scale[i] > 0.0) || !std::isfinite(scale[i]))
         throw InputError(log::cat("turk_rd.diffusion_scale: expected a positive value at every "
@@ -139,7 +139,7 @@ public:
     if (!stage.active.empty()) {
       auto names = earlier_names;
       names.insert(names.end(), mesh_field_names.begin(), mesh_field_names.end());
-      const auto active = CellExpression(stage.active, names, stage.key_path + ".active")
+      const auto active = geom::PointExpression(stage.active, names, stage.key_path + ".active")
                               .evaluate(xyz_, columns(fields, names));
       for (std::size_t i = 0; i < frozen.size(); ++i)
         frozen[i] = active[i] == 0.0;
@@ -197,7 +197,7 @@ public:
     all.insert(earlier.begin(), earlier.end());
     auto names = stage_.species;
     names.insert(names.end(), earlier_names_.begin(), earlier_names_.end());
-    return CellExpression(stage_.show, names, stage_.key_path + ".show")
+    return geom::PointExpression(stage_.show, names, stage_.key_path + ".show")
         .evaluate(xyz_, columns(all, names));
   }
 

@@ -1,7 +1,7 @@
 #include "pipelines/turk_rd/turk_rd_settings.hpp"
 
 #include "core/error.hpp"
-#include "pipelines/turk_rd/cell_expression.hpp"
+#include "geom/point_expression.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -54,7 +54,7 @@ std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
       initiator.radius = entry.get<double>("radius", 0.0, non_negative());
     } else {
       initiator.region = entry.require<std::string>("region");
-      CellExpression(initiator.region, mesh_fields, entry.key_path("region"));
+      geom::PointExpression(initiator.region, mesh_fields, entry.key_path("region"));
     }
     const ConfigSection values = entry.section("set");
     for (const std::string& species : values.keys())
@@ -124,8 +124,8 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
   settings.cells = read_cells(section.section("cells"));
   settings.mesh_fields = read_mesh_fields(section, settings.mesh);
   settings.diffusion_scale = section.get<std::string>("diffusion_scale", "1");
-  CellExpression(settings.diffusion_scale, settings.mesh_fields,
-                 section.key_path("diffusion_scale"));
+  geom::PointExpression(settings.diffusion_scale, settings.mesh_fields,
+                        section.key_path("diffusion_scale"));
 
   if (!section.has("stages") || section.section("stages").keys().empty())
     section.fail("stages", "a mapping of stage names to {model, steps, dt, ...}, run in order");
@@ -159,14 +159,14 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
       auto active_names = earlier;
       active_names.insert(active_names.end(), settings.mesh_fields.begin(),
                           settings.mesh_fields.end());
-      CellExpression(stage.active, active_names, entry.key_path("active"));
+      geom::PointExpression(stage.active, active_names, entry.key_path("active"));
     }
     stage.active_start_initial =
         entry.choice<bool>("active_start", false, {{"carried", false}, {"initial", true}});
     stage.show = entry.get<std::string>("show", stage.species.front());
     auto show_names = stage.species;
     show_names.insert(show_names.end(), earlier.begin(), earlier.end());
-    CellExpression(stage.show, show_names, entry.key_path("show"));
+    geom::PointExpression(stage.show, show_names, entry.key_path("show"));
     stage.initiators = read_initiators(entry.section("initiators"), stage, settings.mesh_fields);
     settings.stages.push_back(std::move(stage));
   }

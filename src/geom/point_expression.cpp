@@ -1,16 +1,16 @@
-#include "pipelines/turk_rd/cell_expression.hpp"
+#include "geom/point_expression.hpp"
 
 #include "core/error.hpp"
 
 #include <muParser.h>
 
-namespace texsim::pipelines::turk_rd {
+namespace texsim::geom {
 namespace {
 constexpr std::size_t kCoordinates = 3; // x, y, z come first in bound_
 }
 
-CellExpression::CellExpression(const std::string& text, std::vector<std::string> names,
-                               const std::string& key_path)
+PointExpression::PointExpression(const std::string& text, std::vector<std::string> names,
+                                 const std::string& key_path)
     : text_(text), names_(std::move(names)), key_path_(key_path),
       bound_(kCoordinates + names_.size()), parser_(std::make_unique<mu::Parser>()) {
   bind(1);
@@ -22,11 +22,11 @@ CellExpression::CellExpression(const std::string& text, std::vector<std::string>
   }
 }
 
-CellExpression::~CellExpression() = default;
-CellExpression::CellExpression(CellExpression&&) noexcept = default;
-CellExpression& CellExpression::operator=(CellExpression&&) noexcept = default;
+PointExpression::~PointExpression() = default;
+PointExpression::PointExpression(PointExpression&&) noexcept = default;
+PointExpression& PointExpression::operator=(PointExpression&&) noexcept = default;
 
-void CellExpression::bind(std::size_t cells) const {
+void PointExpression::bind(std::size_t cells) const {
   if (!bound_[0].empty() && bound_[0].size() >= cells)
     return;
   for (auto& column : bound_)
@@ -43,8 +43,8 @@ void CellExpression::bind(std::size_t cells) const {
 }
 
 std::vector<double>
-CellExpression::evaluate(std::span<const double> xyz,
-                         const std::vector<std::span<const double>>& columns) const {
+PointExpression::evaluate(std::span<const double> xyz,
+                          const std::vector<std::span<const double>>& columns) const {
   const std::size_t cells = xyz.size() / kCoordinates;
   TEXSIM_VERIFY(columns.size() == names_.size(), key_path_ << ": " << columns.size()
                                                            << " columns for " << names_.size()
@@ -66,4 +66,4 @@ CellExpression::evaluate(std::span<const double> xyz,
   return result;
 }
 
-} // namespace texsim::pipelines::turk_rd
+} // namespace texsim::geom

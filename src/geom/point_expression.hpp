@@ -1,7 +1,8 @@
 #pragma once
-/// A user formula evaluated at many cells (muparser, bulk mode): `x`, `y`, `z` and any per-cell
-/// arrays the caller names (species values, earlier stages' results). Turk's controls are such
-/// formulas: which cells a cascade stage may change, where diffusion is faster, what is rendered.
+/// A user formula evaluated at many points or cells (muparser, bulk mode): `x`, `y`, `z` and any
+/// per-point arrays the caller names (species values, earlier stages' results). Turk's controls are
+/// such formulas: which cells a cascade stage may change, where diffusion is faster, what is
+/// rendered; so is the texture orientation field of surface_synthesis.
 #include <memory>
 #include <span>
 #include <string>
@@ -11,17 +12,17 @@ namespace mu {
 class Parser;
 }
 
-namespace texsim::pipelines::turk_rd {
+namespace texsim::geom {
 
-class CellExpression {
+class PointExpression {
 public:
   /// Parses `text` with the variables x, y, z and `names`; throws InputError
   /// "<key_path>: cannot parse "...": ..." for syntax errors and unknown variables.
-  CellExpression(const std::string& text, std::vector<std::string> names,
-                 const std::string& key_path);
-  ~CellExpression();
-  CellExpression(CellExpression&&) noexcept;
-  CellExpression& operator=(CellExpression&&) noexcept;
+  PointExpression(const std::string& text, std::vector<std::string> names,
+                  const std::string& key_path);
+  ~PointExpression();
+  PointExpression(PointExpression&&) noexcept;
+  PointExpression& operator=(PointExpression&&) noexcept;
 
   /// Value at every cell: xyz holds 3 coordinates per cell, columns[k][i] the value of names[k]
   /// at cell i. Not thread-safe.
@@ -40,4 +41,4 @@ private:
   void bind(std::size_t cells) const;
 };
 
-} // namespace texsim::pipelines::turk_rd
+} // namespace texsim::geom
