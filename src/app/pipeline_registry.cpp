@@ -4,6 +4,7 @@
 #include "pipelines/fem_rd/fem_rd_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 #include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
+#include "pipelines/surface_synthesis/surface_synthesis_pipeline.hpp"
 #include "pipelines/turk_rd/turk_rd_pipeline.hpp"
 
 #include <functional>
@@ -19,6 +20,8 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
       {"solid_synthesis",
        [] { return std::make_unique<pipelines::solid_synthesis::SolidSynthesisPipeline>(); }},
+      {"surface_synthesis",
+       [] { return std::make_unique<pipelines::surface_synthesis::SurfaceSynthesisPipeline>(); }},
       {"turk_rd", [] { return std::make_unique<pipelines::turk_rd::TurkRdPipeline>(); }},
   };
   return entries;

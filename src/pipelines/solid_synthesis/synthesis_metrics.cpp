@@ -1,6 +1,7 @@
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 
 #include "core/error.hpp"
+#include "img/colour_histogram.hpp"
 
 #include <algorithm>
 #include <array>
@@ -152,37 +153,10 @@ double neighbourhood_error(const vol::ChannelGrid& result_colours,
 }
 
 double histogram_distance(const vol::ChannelGrid& a, const vol::ChannelGrid& b) {
-  constexpr int kBins = 8;
-  const int channels = a.channels();
-  TEXSIM_VERIFY(channels == b.channels() && channels >= 1 && channels <= 4,
-                "histogram_distance needs grids with the same 1 to 4 channels, got "
+  TEXSIM_VERIFY(a.channels() == b.channels(),
+                "histogram_distance needs grids with the same channels, got "
                     << a.channels() << " and " << b.channels());
-  std::size_t bins = 1;
-  for (int c = 0; c < channels; ++c) {
-    bins *= kBins;
-  }
-  const auto histogram = [&](const vol::ChannelGrid& grid) {
-    std::vector<double> frequency(bins, 0.0);
-    for (std::size_t v = 0; v < grid.voxel_count(); ++v) {
-      std::size_t bin = 0;
-      for (const float value : grid.voxel(v)) {
-        const int level =
-            std::min(kBins - 1, static_cast<int>(std::clamp(value, 0.0f, 1.0f) * kBins));
-        bin = bin * kBins + static_cast<std::size_t>(level);
-      }
-      frequency[bin] += 1.0;
-    }
-    for (double& f : frequency) {
-      f /= static_cast<double>(grid.voxel_count());
-    }
-    return frequency;
-  };
-  const std::vector<double> pa = histogram(a), pb = histogram(b);
-  double total = 0.0;
-  for (std::size_t bin = 0; bin < bins; ++bin) {
-    total += std::abs(pa[bin] - pb[bin]);
-  }
-  return 0.5 * total;
+  return img::histogram_distance(a.data(), b.data(), a.channels());
 }
 
 double xy_stripe_orientation_degrees(const vol::ChannelGrid& colours) {

@@ -1,0 +1,77 @@
+#include "pipelines/surface_synthesis/level_frames.hpp"
+
+#include "core/log.hpp"
+#include "io/parallel_surface_writer.hpp"
+
+#include <algorithm>
+
+namespace texsim::pipelines::surface_synthesis {
+namespace {
+
+constexpr const char* kSeries = "surface_synthesis.pvd";
+
+io::PvdSeries open_series(const par::Comm& comm, const std::filesystem::path& dir,
+                          std::optional<double> restart_time) {
+  return restart_time ? io::PvdSeries::resume(comm, dir / kSeries, *restart_time)
+                      : io::PvdSeries(comm, dir / kSeries);
+}
+
+} // namespace
+
+LevelFrames::LevelFrames(const par::Comm& comm, const std::filesystem::path& output_dir,
+                         std::optional<double> restart_time)
+    : comm_(comm), output_dir_(output_dir),
+      series_(open_series(comm, output_dir, restart_time)) {}
+
+void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& retiled,
+                        std::span<const geom::Vec3> directions, const LevelColours& colours) {
+  const std::int64_t first = retiled.rank_offsets[std::size_t(comm_.rank)];
+  const std::int64_t end = retiled.rank_offsets[std::size_t(comm_.rank) + 1];
+  std::vector<std::int32_t> local_of(retiled.mesh.positions.size(), -1);
+  std::vector<std::int64_t> triangles;
+  std::vector<std::int32_t> used;
+  for (const auto& t : retiled.mesh.triangles) {
+    const std::int32_t smallest = std::min({t[0], t[1], t[2]});
+    if (smallest < first || smallest >= end)
+      continue;
+    for (const auto v : t)
+      if (local_of[std::size_t(v)] < 0) {
+        local_of[std::size_t(v)] = 0;
+        used.push_back(v);
+      }
+  }
+  std::sort(used.begin(), used.end());
+  for (std::size_t i = 0; i < used.size(); ++i)
+    local_of[std::size_t(used[i])] = std::int32_t(i);
+  for (const auto& t : retiled.mesh.triangles)
+    if (const std::int32_t smallest = std::min({t[0], t[1], t[2]}); smallest >= first &&
+                                                                    smallest < end)
+      for (const auto v : t)
+        triangles.push_back(local_of[std::size_t(v)]);
+
+  std::vector<double> xyz, colour, s;
+  std::vector<std::int64_t> ids;
+  std::vector<std::int32_t> owner;
+  for (const auto v : used) {
+    const auto& p = retiled.mesh.positions[std::size_t(v)];
+    xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+    const auto& c = colours.colours[std::size_t(v)];
+    colour.insert(colour.end(), {c.r, c.g, c.b});
+    const auto& d = directions[std::size_t(v)];
+    s.insert(s.end(), {d.x(), d.y(), d.z()});
+    ids.push_back(v);
+    owner.push_back(std::int32_t(std::upper_bound(retiled.rank_offsets.begin(),
+                                                  retiled.rank_offsets.end(), v) -
+                                 retiled.rank_offsets.begin() - 1));
+  }
+  io::SurfacePiece piece{xyz, triangles, {}, {}};
+  piece.point_fields = {{"color", 3, std::span<const double>(colour)},
+                        {"s", 3, std::span<const double>(s)},
+                        {"vertex_id", 1, std::span<const std::int64_t>(ids)},
+                        {"rank", 1, std::span<const std::int32_t>(owner)}};
+  const std::string name = log::cat("level", level, "_pass", int(pass));
+  io::write_parallel_surface(comm_, output_dir_ / "levels", name, piece, io::SurfaceFormat::vtp);
+  series_.add(time_of(levels, level, pass), "levels/" + name + ".pvtp");
+}
+
+} // namespace texsim::pipelines::surface_synthesis

@@ -1,0 +1,217 @@
+#include "pipelines/surface_synthesis/level_synthesizer.hpp"
+
+#include "core/error.hpp"
+#include "par/record_exchange.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace texsim::pipelines::surface_synthesis {
+
+struct LevelSynthesizer::PassData {
+  Pass pass;
+  bool read_current;
+  ExemplarNeighbourhoods exemplar;
+  std::unique_ptr<NeighbourhoodSearch> search;
+  std::unique_ptr<NeighbourhoodSearch> exact; ///< for the metric when `search` is approximate
+};
+
+namespace {
+
+struct ReadRequest {
+  std::int64_t id;
+  std::int32_t reader;
+};
+
+struct ColourUpdate {
+  std::int64_t id;
+  std::int32_t pixel;
+  float rgb[3];
+};
+
+int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
+  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
+             rank_offsets.begin()) -
+         1;
+}
+
+void add_sample(const SampleWeights& sample, std::span<const img::Rgb> colours,
+                const img::Rgb& uncovered, double* out) {
+  if (!sample.covered()) {
+    for (int ch = 0; ch < 3; ++ch)
+      out[ch] = uncovered[ch];
+    return;
+  }
+  for (int ch = 0; ch < 3; ++ch) {
+    double value = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+      value += sample.weights[k] * colours[std::size_t(sample.vertices[k])][ch];
+    out[ch] = value;
+  }
+}
+
+} // namespace
+
+LevelSynthesizer::LevelSynthesizer(const par::Comm& comm, const LevelStencils& stencils,
+                                   std::span<const std::int64_t> rank_offsets,
+                                   const std::vector<img::RgbImage>& pyramid, int level,
+                                   const NeighbourhoodTemplate& layout, SearchMethod method,
+                                   ExemplarBorder border)
+    : comm_(comm), stencils_(stencils), image_(pyramid[std::size_t(level)]),
+      current_mean_(mean_colour(pyramid[std::size_t(level)])),
+      coarser_mean_(std::size_t(level) + 1 < pyramid.size()
+                        ? mean_colour(pyramid[std::size_t(level) + 1])
+                        : current_mean_) {
+  // The mesh's coarser part exists only when the layout has one and the level has a coarser one.
+  NeighbourhoodTemplate used = layout;
+  if (stencils.coarser_count == 0)
+    used.coarser.clear();
+  for (const Pass pass : {Pass::extrapolate, Pass::refine}) {
+    if (used.samples(pass) == 0) {
+      passes_.push_back(nullptr);
+      continue;
+    }
+    auto data = std::make_unique<PassData>();
+    data->pass = pass;
+    data->read_current = pass == Pass::refine;
+    data->exemplar = exemplar_neighbourhoods(pyramid, level, used, pass, border);
+    data->search = make_neighbourhood_search(method, data->exemplar.table);
+    if (method == SearchMethod::tsvq)
+      data->exact = make_neighbourhood_search(SearchMethod::pruned, data->exemplar.table);
+    passes_.push_back(std::move(data));
+  }
+
+  // Halo lists: tell every owner which of its vertices this rank's stencils read.
+  std::vector<std::vector<ReadRequest>> requests(std::size_t(comm.size));
+  std::vector<std::int64_t> read;
+  for (const auto& sample : stencils.current)
+    if (sample.covered())
+      for (const auto v : sample.vertices)
+        if (v < stencils.first || v >= stencils.first + stencils.owned)
+          read.push_back(v);
+  std::sort(read.begin(), read.end());
+  read.erase(std::unique(read.begin(), read.end()), read.end());
+  for (const std::int64_t v : read)
+    requests[std::size_t(owner_of(rank_offsets, v))].push_back({v, comm.rank});
+  auto received = par::exchange_records(comm, requests);
+  std::sort(received.begin(), received.end(), [](const ReadRequest& a, const ReadRequest& b) {
+    return std::tie(a.id, a.reader) < std::tie(b.id, b.reader);
+  });
+  reader_offsets_.assign(std::size_t(stencils.owned) + 1, 0);
+  for (const auto& r : received)
+    ++reader_offsets_[std::size_t(r.id - stencils.first) + 1];
+  for (std::size_t i = 1; i < reader_offsets_.size(); ++i)
+    reader_offsets_[i] += reader_offsets_[i - 1];
+  for (const auto& r : received)
+    readers_.push_back(r.reader);
+}
+
+LevelSynthesizer::~LevelSynthesizer() = default;
+
+bool LevelSynthesizer::runs(Pass pass) const {
+  return passes_[pass == Pass::extrapolate ? 0 : 1] != nullptr;
+}
+
+void LevelSynthesizer::query(const PassData& data, std::int64_t local, const LevelColours& current,
+                             const LevelColours* coarser, std::vector<double>& out) const {
+  out.resize(std::size_t(data.exemplar.table.dimension));
+  double* value = out.data();
+  if (data.read_current)
+    for (const auto& sample : stencils_.current_of(local)) {
+      add_sample(sample, current.colours, current_mean_, value);
+      value += 3;
+    }
+  if (coarser)
+    for (const auto& sample : stencils_.coarser_of(local)) {
+      add_sample(sample, coarser->colours, coarser_mean_, value);
+      value += 3;
+    }
+  TEXSIM_ASSERT(value == out.data() + out.size(), "neighbourhood query of the wrong size");
+}
+
+void LevelSynthesizer::run_pass(Pass pass, const SynthesisOrder& order, std::int32_t first_class,
+                                LevelColours& current, const LevelColours* coarser,
+                                const std::function<void(std::int32_t)>& after_class) const {
+  const PassData* data = passes_[pass == Pass::extrapolate ? 0 : 1].get();
+  TEXSIM_VERIFY(data, "run_pass on a pass that reads nothing");
+  for (std::int32_t c = first_class; c < order.classes; ++c) {
+    const auto& members = order.owned_members[std::size_t(c)];
+#pragma omp parallel
+    {
+      std::vector<double> q;
+#pragma omp for schedule(dynamic, 16)
+      for (std::size_t m = 0; m < members.size(); ++m) {
+        const std::int64_t local = members[m];
+        query(*data, local, current, coarser, q);
+        const std::int64_t row = data->search->nearest(q);
+        const std::int32_t pixel = data->exemplar.pixels[std::size_t(row)];
+        const auto v = std::size_t(stencils_.first + local);
+        current.pixels[v] = pixel;
+        current.colours[v] = image_.data()[std::size_t(pixel)];
+      }
+    }
+    send_class(members, current);
+    after_class(c);
+  }
+}
+
+void LevelSynthesizer::send_class(const std::vector<std::int64_t>& members,
+                                  LevelColours& current) const {
+  std::vector<std::vector<ColourUpdate>> outgoing(std::size_t(comm_.size));
+  for (const std::int64_t local : members) {
+    const auto v = std::size_t(stencils_.first + local);
+    const img::Rgb& c = current.colours[v];
+    for (auto k = reader_offsets_[std::size_t(local)]; k < reader_offsets_[std::size_t(local) + 1];
+         ++k)
+      outgoing[std::size_t(readers_[std::size_t(k)])].push_back(
+          {std::int64_t(v), current.pixels[v], {c.r, c.g, c.b}});
+  }
+  for (const auto& update : par::exchange_records(comm_, outgoing)) {
+    current.colours[std::size_t(update.id)] = {update.rgb[0], update.rgb[1], update.rgb[2]};
+    current.pixels[std::size_t(update.id)] = update.pixel;
+  }
+}
+
+double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
+                                             const LevelColours* coarser) const {
+  const PassData* data = passes_[1] ? passes_[1].get() : passes_[0].get();
+  double sums[2] = {0, 0}; // distance sum, vertex count
+  if (data) {
+    const auto& table = data->exemplar.table;
+    const NeighbourhoodSearch& exact = data->exact ? *data->exact : *data->search;
+    std::vector<double> q;
+    for (std::int64_t local = 0; local < stencils_.owned; ++local) {
+      query(*data, local, current, coarser, q);
+      sums[0] += std::sqrt(exact.distance2(exact.nearest(q), q));
+    }
+    sums[1] = double(stencils_.owned);
+    // Spread of the exemplar neighbourhoods: RMS distance to their mean (same on every rank).
+    const std::int64_t rows = table.rows();
+    std::vector<double> mean(std::size_t(table.dimension), 0.0);
+    for (std::int64_t r = 0; r < rows; ++r)
+      for (int k = 0; k < table.dimension; ++k)
+        mean[std::size_t(k)] += table.values[std::size_t(r * table.dimension + k)];
+    for (double& m : mean)
+      m /= double(rows);
+    double spread2 = 0;
+    for (std::int64_t r = 0; r < rows; ++r)
+      spread2 += exact.distance2(r, mean);
+    const double spread = std::sqrt(spread2 / double(rows));
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_.raw);
+    return spread > 0 ? sums[0] / sums[1] / spread : 0.0;
+  }
+  return 0.0;
+}
+
+std::size_t LevelSynthesizer::memory_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& data : passes_)
+    if (data)
+      bytes += data->exemplar.table.values.size() * sizeof(float) + data->search->memory_bytes() +
+               (data->exact ? data->exact->memory_bytes() : 0);
+  return bytes;
+}
+
+} // namespace texsim::pipelines::surface_synthesis

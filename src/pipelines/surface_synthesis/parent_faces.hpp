@@ -1,0 +1,27 @@
+#pragma once
+/// Wei-Levoy Section 3.3: "for each vertex p of pyramid G_s, we first find the corresponding parent
+/// faces at lower resolution pyramid levels by intersecting the normal n of p with the coarse
+/// meshes". The coarser part of p's neighbourhood grows from that face, and a finer level's
+/// orientation starts from the directions at its corners.
+#include "geom/aabb_tree.hpp"
+#include "pipelines/surface_synthesis/orientation_field.hpp"
+
+#include <span>
+#include <vector>
+
+namespace texsim::pipelines::surface_synthesis {
+
+/// For each point (with its unit normal): the triangle of `coarse` first hit by the line through
+/// the point along +-normal (nearest intersection on either side) and the barycentric weights of
+/// the hit; not found (vertices[0] == -1) when the line misses the coarse surface (Wei-Levoy
+/// footnote 2: the coarser part is then left uncovered). OpenMP; deterministic.
+std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
+                                          std::span<const geom::Vec3> normals,
+                                          const geom::TriangleMesh& coarse,
+                                          const geom::AabbTree& coarse_tree);
+
+/// Barycentric weights of `point` (on or near the plane of triangle t) in t.
+std::array<double, 3> barycentric_weights(const geom::TriangleMesh& mesh, std::int32_t t,
+                                          const geom::Vec3& point);
+
+} // namespace texsim::pipelines::surface_synthesis

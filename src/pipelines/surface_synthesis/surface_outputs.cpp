@@ -1,0 +1,124 @@
+#include "pipelines/surface_synthesis/surface_outputs.hpp"
+
+#include "geom/bump_map.hpp"
+#include "geom/surface_field_sampler.hpp"
+#include "geom/texture_atlas.hpp"
+#include "img/colour_histogram.hpp"
+#include "img/image_io.hpp"
+#include "io/parallel_surface_writer.hpp"
+#include "io/textured_obj_writer.hpp"
+#include "par/collective.hpp"
+
+#include <mpi.h>
+
+namespace texsim::pipelines::surface_synthesis {
+namespace {
+
+/// The finest level's colours at every vertex of M_s: linear on the retiled triangle nearest to
+/// each vertex.
+std::vector<img::Rgb> colours_on_surface(const geom::TriangleMesh& surface,
+                                         const RetiledLevel& finest, const LevelColours& colours) {
+  std::vector<std::vector<double>> channels(3);
+  for (const auto& c : colours.colours)
+    for (int ch = 0; ch < 3; ++ch)
+      channels[std::size_t(ch)].push_back(c[ch]);
+  const geom::SurfaceFieldSampler sampler(finest.mesh, std::move(channels));
+  std::vector<img::Rgb> result(surface.positions.size());
+  for (int ch = 0; ch < 3; ++ch) {
+    const auto values = sampler.sample(std::size_t(ch), surface.positions);
+    for (std::size_t v = 0; v < values.size(); ++v)
+      result[v][ch] = float(values[v]);
+  }
+  return result;
+}
+
+std::vector<double> xyz_of(std::span<const geom::Vec3> positions) {
+  std::vector<double> xyz;
+  for (const auto& p : positions)
+    xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+  return xyz;
+}
+
+/// The atlas image: every used texel interpolates the vertex colours of its triangle.
+img::RgbImage fill_atlas(const geom::TriangleMesh& surface, const geom::TextureAtlas& atlas,
+                         std::span<const img::Rgb> vertex_colours) {
+  img::RgbImage image(atlas.resolution, atlas.resolution);
+  for (const auto& texel : geom::atlas_texels(surface, atlas)) {
+    const auto& t = surface.triangles[std::size_t(texel.triangle)];
+    img::Rgb c;
+    for (int ch = 0; ch < 3; ++ch) {
+      double value = 0;
+      for (std::size_t k = 0; k < 3; ++k)
+        value += texel.weights[k] * vertex_colours[std::size_t(t[k])][ch];
+      c[ch] = float(value);
+    }
+    image.at(texel.x, texel.y) = c;
+  }
+  return image;
+}
+
+} // namespace
+
+SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::TriangleMesh& surface,
+                                     const RetiledLevel& finest, const LevelColours& colours,
+                                     const img::RgbImage& exemplar,
+                                     const SurfaceSynthesisSettings& settings,
+                                     const std::filesystem::path& output_dir) {
+  SurfaceOutputs outputs;
+  outputs.histogram_distance = img::histogram_distance(
+      {reinterpret_cast<const float*>(colours.colours.data()), 3 * colours.colours.size()},
+      {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()}, 3);
+
+  std::vector<img::Rgb> on_surface;
+  std::vector<double> xyz, colour_values, height;
+  std::vector<std::int64_t> triangles;
+  if (comm.rank == 0) {
+    on_surface = colours_on_surface(surface, finest, colours);
+    xyz = xyz_of(surface.positions);
+    for (const auto& c : on_surface) {
+      colour_values.insert(colour_values.end(), {c.r, c.g, c.b});
+      height.push_back(0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b); // Rec. 709 luminance
+    }
+    for (const auto& t : surface.triangles)
+      triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  }
+  io::SurfacePiece piece{xyz, triangles, {}, {}};
+  piece.point_fields = {{"color", 3, std::span<const double>(colour_values)},
+                        {"luminance", 1, std::span<const double>(height)}};
+  outputs.files.push_back(
+      io::write_parallel_surface(comm, output_dir, "surface", piece, io::SurfaceFormat::vtp));
+
+  if (settings.displacement_scale > 0) {
+    std::vector<double> displaced_xyz, normals;
+    if (comm.rank == 0) {
+      const auto bumped = geom::bump_map(surface, height, settings.displacement_scale);
+      displaced_xyz = xyz_of(bumped.positions);
+      normals = xyz_of(bumped.normals);
+    }
+    io::SurfacePiece displaced{displaced_xyz, triangles, {}, {}};
+    displaced.point_fields = {{"color", 3, std::span<const double>(colour_values)},
+                              {"height", 1, std::span<const double>(height)},
+                              {"Normals", 3, std::span<const double>(normals)}};
+    outputs.files.push_back(io::write_parallel_surface(comm, output_dir, "displaced", displaced,
+                                                       io::SurfaceFormat::vtp));
+  }
+
+  if (settings.atlas.resolution > 0) {
+    par::run_collectively(comm, [&] {
+      if (comm.rank != 0)
+        return;
+      geom::AtlasSettings atlas_settings;
+      atlas_settings.resolution = settings.atlas.resolution;
+      atlas_settings.gutter = settings.atlas.gutter;
+      const auto atlas = geom::build_texture_atlas(surface, atlas_settings);
+      img::write_png(output_dir / "atlas.png", fill_atlas(surface, atlas, on_surface));
+      io::write_textured_obj(output_dir / "textured.obj", surface_obj_view(surface, atlas),
+                             "atlas.png");
+    });
+    outputs.files.push_back(output_dir / "atlas.png");
+    outputs.files.push_back(output_dir / "textured.obj");
+  }
+  return outputs;
+}
+
+} // namespace texsim::pipelines::surface_synthesis

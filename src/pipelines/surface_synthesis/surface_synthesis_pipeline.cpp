@@ -1,0 +1,371 @@
+#include "pipelines/surface_synthesis/surface_synthesis_pipeline.hpp"
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/peak_memory.hpp"
+#include "core/progress.hpp"
+#include "core/rng.hpp"
+#include "core/stop_signal.hpp"
+#include "geom/aabb_tree.hpp"
+#include "geom/mesh_reader.hpp"
+#include "geom/mesh_source.hpp"
+#include "geom/mesh_topology.hpp"
+#include "geom/point_expression.hpp"
+#include "geom/surface_field_sampler.hpp"
+#include "io/checkpoint_store.hpp"
+#include "par/checkpoint_clock.hpp"
+#include "par/collective.hpp"
+#include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
+#include "pipelines/surface_synthesis/level_frames.hpp"
+#include "pipelines/surface_synthesis/level_stencils.hpp"
+#include "pipelines/surface_synthesis/level_synthesizer.hpp"
+#include "pipelines/surface_synthesis/mesh_pyramid.hpp"
+#include "pipelines/surface_synthesis/orientation_field.hpp"
+#include "pipelines/surface_synthesis/orientation_relaxation.hpp"
+#include "pipelines/surface_synthesis/parent_faces.hpp"
+#include "pipelines/surface_synthesis/surface_outputs.hpp"
+#include "pipelines/surface_synthesis/synthesis_checkpoint.hpp"
+#include "pipelines/surface_synthesis/synthesis_order.hpp"
+
+#include <mpi.h>
+
+#include <numeric>
+
+namespace texsim::pipelines::surface_synthesis {
+namespace {
+
+constexpr std::uint32_t kRandomStartStream = 0x5302;
+
+/// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5):
+/// the coarsest level keeps them.
+std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
+                                       const std::vector<img::RgbImage>& exemplar,
+                                       std::uint64_t seed) {
+  const CounterRng rng(seed, kRandomStartStream);
+  std::vector<LevelColours> colours(pyramid.size());
+  for (std::size_t k = 0; k < pyramid.size(); ++k) {
+    const auto n = std::size_t(pyramid[k].rank_offsets.back());
+    const auto pixels = exemplar[k].size();
+    colours[k].colours.resize(n);
+    colours[k].pixels.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      const auto pixel = std::size_t(rng.uniform(v, std::uint32_t(k)) * double(pixels));
+      colours[k].pixels[v] = std::int32_t(pixel);
+      colours[k].colours[v] = exemplar[k].data()[pixel];
+    }
+  }
+  return colours;
+}
+
+/// Every rank gets every vertex's colour of a finished level (geometry is replicated for now).
+void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours& colours) {
+  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[std::size_t(r)] = int(level.rank_offsets[std::size_t(r)]);
+    counts[std::size_t(r)] =
+        int(level.rank_offsets[std::size_t(r) + 1] - level.rank_offsets[std::size_t(r)]);
+  }
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.pixels.data(), counts.data(),
+                 offsets.data(), MPI_INT32_T, comm.raw);
+  for (int r = 0; r < comm.size; ++r) {
+    counts[std::size_t(r)] *= 3;
+    offsets[std::size_t(r)] *= 3;
+  }
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.colours.data(), counts.data(),
+                 offsets.data(), MPI_FLOAT, comm.raw);
+}
+
+/// The orientation field of mode `field` at a level's vertices: the three expressions of x, y, z
+/// and the mesh arrays (sampled at the closest point of the input file's surface).
+std::vector<geom::Vec3> field_vectors(const OrientationSettings& settings,
+                                      const geom::MeshSource& mesh_source,
+                                      const RetiledLevel& level) {
+  std::vector<double> xyz;
+  for (const auto& p : level.mesh.positions)
+    xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+  std::vector<std::vector<double>> arrays;
+  if (!settings.mesh_fields.empty()) {
+    auto file = geom::read_vertex_fields(mesh_source.file, settings.mesh_fields);
+    for (auto& position : file.mesh.positions)
+      position *= mesh_source.scale;
+    const geom::SurfaceFieldSampler sampler(file.mesh, std::move(file.values));
+    for (std::size_t k = 0; k < settings.mesh_fields.size(); ++k)
+      arrays.push_back(sampler.sample(k, level.mesh.positions));
+  }
+  const std::vector<std::span<const double>> columns(arrays.begin(), arrays.end());
+  std::vector<geom::Vec3> field(level.mesh.positions.size(), geom::Vec3::Zero());
+  for (int c = 0; c < 3; ++c) {
+    const auto values = geom::PointExpression(settings.field[std::size_t(c)], settings.mesh_fields,
+                                              "surface_synthesis.orientation.field")
+                            .evaluate(xyz, columns);
+    for (std::size_t v = 0; v < values.size(); ++v)
+      field[v][c] = values[v];
+  }
+  return field;
+}
+
+SearchMethod search_method(SearchMethodName name) {
+  switch (name) {
+  case SearchMethodName::tsvq:
+    return SearchMethod::tsvq;
+  case SearchMethodName::pruned:
+    return SearchMethod::pruned;
+  case SearchMethodName::exhaustive:
+    break;
+  }
+  return SearchMethod::exhaustive;
+}
+
+} // namespace
+
+void SurfaceSynthesisPipeline::configure(const ConfigSection& section, const RunSettings& run) {
+  settings_ = read_surface_synthesis_settings(section);
+  seed_ = run.seed;
+}
+
+MemoryEstimate SurfaceSynthesisPipeline::estimate_memory(int ranks) const {
+  auto estimate = geom::estimate_mesh_memory(settings_.mesh, "surface_synthesis.mesh", ranks, 400,
+                                             1000);
+  // Pyramid (4/3 of the finest level), replicated, about 400 bytes a vertex; stencils of the
+  // owned vertices, 2 x 49 samples x 40 bytes.
+  const auto pyramid = std::uint64_t(settings_.vertices) * 4 / 3 * 400;
+  const auto stencils = std::uint64_t(settings_.vertices) * 2 * 49 * 40 / std::uint64_t(ranks);
+  return larger(estimate, {pyramid + stencils + estimate.bytes, "surface_synthesis.vertices",
+                           log::cat(settings_.vertices, " retiled vertices on ",
+                                    settings_.levels, " levels")});
+}
+
+void SurfaceSynthesisPipeline::run(RunContext& ctx) {
+  const auto& comm = ctx.comm;
+  const auto& run = ctx.settings;
+  auto& report = ctx.report;
+  const int levels = settings_.levels;
+
+  geom::TriangleMesh surface;
+  {
+    auto stage = ctx.timers.scope("mesh");
+    geom::MeshBuildReport built;
+    par::run_collectively(comm,
+                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
+    geom::record_mesh_build(built, report);
+  }
+
+  std::vector<img::RgbImage> exemplar;
+  {
+    auto stage = ctx.timers.scope("exemplar");
+    par::run_collectively(comm, [&] {
+      exemplar = exemplar_pyramid(load_exemplar(settings_.exemplar, run.seed), levels,
+                                  settings_.exemplar.border);
+    });
+    log::info(log::cat("exemplar: ", exemplar[0].width(), " x ", exemplar[0].height(), ", ",
+                       levels, " levels"));
+  }
+
+  std::vector<RetiledLevel> pyramid;
+  {
+    auto stage = ctx.timers.scope("hierarchy");
+    MeshPyramidSettings pyramid_settings;
+    pyramid_settings.finest_count = settings_.vertices;
+    pyramid_settings.levels = levels;
+    pyramid_settings.cells = settings_.cells;
+    pyramid = build_mesh_pyramid(comm, surface, run.seed, pyramid_settings);
+    nlohmann::json level_metrics = nlohmann::json::array();
+    for (std::size_t k = 0; k < pyramid.size(); ++k) {
+      level_metrics.push_back({{"vertices", pyramid[k].mesh.num_vertices()},
+                               {"triangles", pyramid[k].mesh.num_triangles()},
+                               {"spacing", pyramid[k].spacing}});
+      log::info(log::cat("level ", k, ": ", pyramid[k].mesh.num_vertices(), " vertices, ",
+                         pyramid[k].mesh.num_triangles(), " triangles, d = ",
+                         pyramid[k].spacing));
+    }
+    report.metric("levels", level_metrics);
+  }
+  std::vector<geom::MeshTopology> topologies;
+  std::vector<geom::AabbTree> trees;
+  for (const auto& level : pyramid) {
+    topologies.emplace_back(level.mesh);
+    trees.emplace_back(level.mesh);
+  }
+
+  // Parent faces (level k on level k + 1) and orientation, coarse to fine.
+  std::vector<std::vector<ParentFace>> parents(std::size_t(levels));
+  std::vector<std::vector<geom::Vec3>> directions(std::size_t(levels));
+  {
+    auto stage = ctx.timers.scope("orientation");
+    const auto& orientation = settings_.orientation;
+    nlohmann::json relax_metrics = nlohmann::json::array();
+    for (int k = levels - 1; k >= 0; --k) {
+      const auto& level = pyramid[std::size_t(k)];
+      if (k + 1 < levels)
+        parents[std::size_t(k)] =
+            find_parent_faces(level.mesh.positions, level.normals,
+                              pyramid[std::size_t(k) + 1].mesh, trees[std::size_t(k) + 1]);
+      auto& s = directions[std::size_t(k)];
+      const auto random = random_directions(level.normals, run.seed, k);
+      if (orientation.mode == OrientationMode::random) {
+        s = random;
+      } else if (orientation.mode == OrientationMode::field) {
+        std::vector<geom::Vec3> field;
+        par::run_collectively(comm,
+                              [&] { field = field_vectors(orientation, settings_.mesh, level); });
+        std::int64_t degenerate = 0;
+        s = projected_directions(level.normals, field, &degenerate);
+        if (degenerate > 0)
+          log::info(log::cat("level ", k, ": the orientation field is normal to the surface or "
+                                          "zero at ",
+                             degenerate, " vertices (they take a fallback direction)"));
+      } else {
+        std::optional<CoarserOrientation> coarser;
+        if (k + 1 < levels) {
+          coarser = CoarserOrientation{parents[std::size_t(k)], directions[std::size_t(k) + 1],
+                                       pyramid[std::size_t(k) + 1].normals};
+          s = inherited_directions(level.normals, *coarser, orientation.symmetry, random);
+        } else {
+          s = random;
+        }
+        const auto relaxed =
+            relax_directions(comm, level.rank_offsets, topologies[std::size_t(k)], level.normals,
+                             coarser ? &*coarser : nullptr, orientation.symmetry,
+                             orientation.sweeps, s);
+        relax_metrics.push_back({{"level", k},
+                                 {"energy_start", relaxed.energy.front()},
+                                 {"energy_end", relaxed.energy.back()},
+                                 {"colour_classes", relaxed.colour_classes}});
+        log::info(log::cat("level ", k, ": orientation relaxed in ", orientation.sweeps,
+                           " sweeps, energy ", relaxed.energy.front(), " -> ",
+                           relaxed.energy.back()));
+      }
+    }
+    if (!relax_metrics.empty())
+      report.metric("relaxation", relax_metrics);
+  }
+
+  const SynthesisIdentity identity{exemplar_hash(exemplar), hierarchy_hash(pyramid)};
+  io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
+                            run.checkpoint_keep);
+  std::vector<LevelColours> colours;
+  std::optional<SynthesisPosition> resumed;
+  std::int64_t classes_done = 0;
+  if (run.restart) {
+    const auto found = store.resolve(*run.restart);
+    for (const auto& skipped : found.skipped)
+      log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
+    par::run_collectively(comm, [&] {
+      resumed = load_synthesis(found.reader, pyramid, identity, colours);
+    });
+    classes_done = found.reader.step();
+    log::info(log::cat("restarted from ", found.reader.path().string(), " at level ",
+                       resumed->level, ", pass ", int(resumed->pass), ", class ",
+                       resumed->next_class));
+  } else {
+    colours = random_start(pyramid, exemplar, run.seed);
+  }
+  LevelFrames frames(comm, run.output_dir,
+                     resumed ? std::optional<double>(LevelFrames::time_of(levels, resumed->level,
+                                                                          resumed->pass) -
+                                                     0.5)
+                             : std::nullopt);
+
+  par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
+  const SearchMethod method = search_method(settings_.search);
+  nlohmann::json level_reports = nlohmann::json::array();
+  double random_error = 0, final_error = 0;
+  std::int64_t uncovered = 0, samples = 0;
+  std::size_t search_bytes = 0;
+  Progress progress("surface_synthesis", 2 * levels, "passes");
+  for (int k = levels - 1; k >= 0; --k) {
+    if (resumed && k > resumed->level)
+      continue; // finished before the checkpoint
+    const auto& level = pyramid[std::size_t(k)];
+    const bool has_coarser = k + 1 < levels;
+    const auto layout = NeighbourhoodTemplate::from_shape(settings_.shape(k), has_coarser);
+    const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
+    const std::int64_t owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
+    std::optional<LevelStencils> stencils;
+    {
+      auto stage = ctx.timers.scope("stencils");
+      stencils = build_level_stencils(
+          level, topologies[std::size_t(k)], directions[std::size_t(k)],
+          has_coarser && !layout.coarser.empty() ? &pyramid[std::size_t(k) + 1] : nullptr,
+          has_coarser ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout,
+          first, owned);
+    }
+    auto stage = ctx.timers.scope("synthesis");
+    const LevelSynthesizer synthesizer(comm, *stencils, level.rank_offsets, exemplar, k, layout,
+                                       method, settings_.exemplar.border);
+    search_bytes = std::max(search_bytes, synthesizer.memory_bytes());
+    const LevelColours* coarser = has_coarser ? &colours[std::size_t(k) + 1] : nullptr;
+    if (k == 0 && !resumed)
+      random_error = synthesizer.neighbourhood_error(colours[0], coarser);
+    nlohmann::json classes = nlohmann::json::object();
+    for (const Pass pass : {Pass::extrapolate, Pass::refine}) {
+      const bool at_checkpoint = resumed && k == resumed->level;
+      if (at_checkpoint && int(pass) < int(resumed->pass))
+        continue;
+      const std::int32_t first_class =
+          at_checkpoint && pass == resumed->pass ? resumed->next_class : 0;
+      // Pass 1 on the coarsest level keeps the random colours (Wei-Levoy 3.2).
+      if (synthesizer.runs(pass) && !(pass == Pass::extrapolate && !has_coarser)) {
+        const auto order = synthesis_order(comm, *stencils, level.mesh.num_vertices(), run.seed,
+                                           k, pass);
+        classes[pass == Pass::extrapolate ? "pass1" : "pass2"] = order.classes;
+        synthesizer.run_pass(pass, order, first_class, colours[std::size_t(k)], coarser,
+                             [&](std::int32_t c) {
+                               const auto decision = clock.after_step(++classes_done);
+                               if (decision.checkpoint) {
+                                 auto timer = ctx.timers.scope("checkpoint");
+                                 save_synthesis(comm, store, classes_done, pyramid, colours,
+                                                {k, pass, c + 1}, identity);
+                               }
+                               if (decision.stop)
+                                 throw CheckpointedStop(
+                                     decision.signal_number,
+                                     log::cat("at level ", k, ", pass ", int(pass),
+                                              " after class ", c + 1, " of ", order.classes));
+                             });
+      }
+      {
+        auto timer = ctx.timers.scope("output");
+        frames.write(levels, k, pass, level, directions[std::size_t(k)], colours[std::size_t(k)]);
+      }
+      progress.update(2 * (levels - 1 - k) + int(pass));
+    }
+    share_level(comm, level, colours[std::size_t(k)]);
+    std::int64_t counts[2] = {stencils->uncovered(),
+                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
+    MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
+    level_reports.push_back({{"level", k}, {"classes", classes},
+                             {"uncovered_fraction", double(counts[0]) / double(counts[1])}});
+    if (k == 0) {
+      final_error = synthesizer.neighbourhood_error(colours[0], coarser);
+      uncovered = counts[0];
+      samples = counts[1];
+    }
+  }
+  progress.finish();
+
+  nlohmann::json quality = {{"neighbourhood_error", final_error},
+                            {"uncovered_fraction", double(uncovered) / double(samples)}};
+  if (!resumed)
+    quality["neighbourhood_error_random_start"] = random_error;
+  {
+    auto stage = ctx.timers.scope("atlas");
+    const auto written = write_surface_outputs(comm, surface, pyramid.front(), colours.front(),
+                                               exemplar.front(), settings_, run.output_dir);
+    quality["histogram_distance"] = written.histogram_distance;
+    for (const auto& path : written.files)
+      report.output(path.string());
+  }
+  report.metric("quality", quality);
+  report.metric("synthesis_levels", level_reports);
+  std::int64_t peak = peak_resident_bytes();
+  MPI_Allreduce(MPI_IN_PLACE, &peak, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+  report.metric("memory", {{"peak_resident_bytes_max_rank", peak},
+                           {"search_bytes_finest", std::int64_t(search_bytes)}});
+  report.output(frames.path().string());
+  log::info(log::cat("neighbourhood error ", final_error,
+                     resumed ? std::string() : log::cat(" (random start ", random_error, ")"),
+                     ", uncovered samples ", double(uncovered) / double(samples)));
+}
+
+} // namespace texsim::pipelines::surface_synthesis
