@@ -4,7 +4,6 @@
 #include "core/log.hpp"
 #include "core/peak_memory.hpp"
 #include "core/progress.hpp"
-#include "core/rng.hpp"
 #include "core/stop_signal.hpp"
 #include "geom/aabb_tree.hpp"
 #include "geom/mesh_reader.hpp"
@@ -17,15 +16,13 @@
 #include "par/collective.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_frames.hpp"
-#include "pipelines/surface_synthesis/level_stencils.hpp"
-#include "pipelines/surface_synthesis/level_synthesizer.hpp"
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
+#include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
 #include "pipelines/surface_synthesis/surface_outputs.hpp"
 #include "pipelines/surface_synthesis/synthesis_checkpoint.hpp"
-#include "pipelines/surface_synthesis/synthesis_order.hpp"
 
 #include <mpi.h>
 
@@ -33,47 +30,6 @@
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
-
-constexpr std::uint32_t kRandomStartStream = 0x5302;
-
-/// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5):
-/// the coarsest level keeps them.
-std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
-                                       const std::vector<img::RgbImage>& exemplar,
-                                       std::uint64_t seed) {
-  const CounterRng rng(seed, kRandomStartStream);
-  std::vector<LevelColours> colours(pyramid.size());
-  for (std::size_t k = 0; k < pyramid.size(); ++k) {
-    const auto n = std::size_t(pyramid[k].rank_offsets.back());
-    const auto pixels = exemplar[k].size();
-    colours[k].colours.resize(n);
-    colours[k].pixels.resize(n);
-    for (std::size_t v = 0; v < n; ++v) {
-      const auto pixel = std::size_t(rng.uniform(v, std::uint32_t(k)) * double(pixels));
-      colours[k].pixels[v] = std::int32_t(pixel);
-      colours[k].colours[v] = exemplar[k].data()[pixel];
-    }
-  }
-  return colours;
-}
-
-/// Every rank gets every vertex's colour of a finished level (geometry is replicated for now).
-void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours& colours) {
-  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
-  for (int r = 0; r < comm.size; ++r) {
-    offsets[std::size_t(r)] = int(level.rank_offsets[std::size_t(r)]);
-    counts[std::size_t(r)] =
-        int(level.rank_offsets[std::size_t(r) + 1] - level.rank_offsets[std::size_t(r)]);
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.pixels.data(), counts.data(),
-                 offsets.data(), MPI_INT32_T, comm.raw);
-  for (int r = 0; r < comm.size; ++r) {
-    counts[std::size_t(r)] *= 3;
-    offsets[std::size_t(r)] *= 3;
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.colours.data(), counts.data(),
-                 offsets.data(), MPI_FLOAT, comm.raw);
-}
 
 /// The orientation field of mode `field` at a level's vertices: the three expressions of x, y, z
 /// and the mesh arrays (sampled at the closest point of the input file's surface).
@@ -102,18 +58,6 @@ std::vector<geom::Vec3> field_vectors(const OrientationSettings& settings,
       field[v][c] = values[v];
   }
   return field;
-}
-
-SearchMethod search_method(SearchMethodName name) {
-  switch (name) {
-  case SearchMethodName::tsvq:
-    return SearchMethod::tsvq;
-  case SearchMethodName::pruned:
-    return SearchMethod::pruned;
-  case SearchMethodName::exhaustive:
-    break;
-  }
-  return SearchMethod::exhaustive;
 }
 
 } // namespace
@@ -267,85 +211,49 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
                              : std::nullopt);
 
   par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
-  const SearchMethod method = search_method(settings_.search);
-  nlohmann::json level_reports = nlohmann::json::array();
-  double random_error = 0, final_error = 0;
-  std::int64_t uncovered = 0, samples = 0;
-  std::size_t search_bytes = 0;
   Progress progress("surface_synthesis", 2 * levels, "passes");
-  for (int k = levels - 1; k >= 0; --k) {
-    if (resumed && k > resumed->level)
-      continue; // finished before the checkpoint
-    const auto& level = pyramid[std::size_t(k)];
-    const bool has_coarser = k + 1 < levels;
-    const auto layout = NeighbourhoodTemplate::from_shape(settings_.shape(k), has_coarser);
-    const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
-    const std::int64_t owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    std::optional<LevelStencils> stencils;
-    {
-      auto stage = ctx.timers.scope("stencils");
-      stencils = build_level_stencils(
-          level, topologies[std::size_t(k)], directions[std::size_t(k)],
-          has_coarser && !layout.coarser.empty() ? &pyramid[std::size_t(k) + 1] : nullptr,
-          has_coarser ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout,
-          first, owned);
+  PyramidSynthesisHooks hooks;
+  hooks.after_class = [&](int k, Pass pass, std::int32_t c, std::int32_t classes) {
+    const auto decision = clock.after_step(++classes_done);
+    if (decision.checkpoint) {
+      auto timer = ctx.timers.scope("checkpoint");
+      save_synthesis(comm, store, classes_done, pyramid, colours, {k, pass, c + 1}, identity);
     }
-    auto stage = ctx.timers.scope("synthesis");
-    const LevelSynthesizer synthesizer(comm, *stencils, level.rank_offsets, exemplar, k, layout,
-                                       method, settings_.exemplar.border);
-    search_bytes = std::max(search_bytes, synthesizer.memory_bytes());
-    const LevelColours* coarser = has_coarser ? &colours[std::size_t(k) + 1] : nullptr;
-    if (k == 0 && !resumed)
-      random_error = synthesizer.neighbourhood_error(colours[0], coarser);
-    nlohmann::json classes = nlohmann::json::object();
-    for (const Pass pass : {Pass::extrapolate, Pass::refine}) {
-      const bool at_checkpoint = resumed && k == resumed->level;
-      if (at_checkpoint && int(pass) < int(resumed->pass))
-        continue;
-      const std::int32_t first_class =
-          at_checkpoint && pass == resumed->pass ? resumed->next_class : 0;
-      // Pass 1 on the coarsest level keeps the random colours (Wei-Levoy 3.2).
-      if (synthesizer.runs(pass) && !(pass == Pass::extrapolate && !has_coarser)) {
-        const auto order = synthesis_order(comm, *stencils, level.mesh.num_vertices(), run.seed,
-                                           k, pass);
-        classes[pass == Pass::extrapolate ? "pass1" : "pass2"] = order.classes;
-        synthesizer.run_pass(pass, order, first_class, colours[std::size_t(k)], coarser,
-                             [&](std::int32_t c) {
-                               const auto decision = clock.after_step(++classes_done);
-                               if (decision.checkpoint) {
-                                 auto timer = ctx.timers.scope("checkpoint");
-                                 save_synthesis(comm, store, classes_done, pyramid, colours,
-                                                {k, pass, c + 1}, identity);
-                               }
-                               if (decision.stop)
-                                 throw CheckpointedStop(
-                                     decision.signal_number,
-                                     log::cat("at level ", k, ", pass ", int(pass),
-                                              " after class ", c + 1, " of ", order.classes));
-                             });
-      }
-      {
-        auto timer = ctx.timers.scope("output");
-        frames.write(levels, k, pass, level, directions[std::size_t(k)], colours[std::size_t(k)]);
-      }
-      progress.update(2 * (levels - 1 - k) + int(pass));
-    }
-    share_level(comm, level, colours[std::size_t(k)]);
-    std::int64_t counts[2] = {stencils->uncovered(),
-                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
-    MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
-    level_reports.push_back({{"level", k}, {"classes", classes},
-                             {"uncovered_fraction", double(counts[0]) / double(counts[1])}});
-    if (k == 0) {
-      final_error = synthesizer.neighbourhood_error(colours[0], coarser);
-      uncovered = counts[0];
-      samples = counts[1];
-    }
-  }
+    if (decision.stop)
+      throw CheckpointedStop(decision.signal_number,
+                             log::cat("at level ", k, ", pass ", int(pass), " after class ",
+                                      c + 1, " of ", classes));
+  };
+  hooks.after_pass = [&](int k, Pass pass) {
+    auto timer = ctx.timers.scope("output");
+    frames.write(levels, k, pass, pyramid[std::size_t(k)], directions[std::size_t(k)],
+                 colours[std::size_t(k)]);
+    progress.update(2 * (levels - 1 - k) + int(pass));
+  };
+  PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
+  for (int k = 0; k < levels; ++k)
+    input.shapes.push_back(settings_.shape(k));
+  input.method = settings_.search;
+  input.border = settings_.exemplar.border;
+  input.seed = run.seed;
+  const auto synthesis =
+      synthesize_pyramid(comm, input, colours, resumed, hooks, ctx.timers);
   progress.finish();
 
+  nlohmann::json level_reports = nlohmann::json::array();
+  double uncovered = 0;
+  for (const auto& level : synthesis.levels) {
+    level_reports.push_back({{"level", level.level},
+                             {"classes_pass1", level.classes[0]},
+                             {"classes_pass2", level.classes[1]},
+                             {"uncovered_fraction", level.uncovered_fraction}});
+    if (level.level == 0)
+      uncovered = level.uncovered_fraction;
+  }
+  const double final_error = synthesis.neighbourhood_error;
+  const double random_error = synthesis.random_start_error;
   nlohmann::json quality = {{"neighbourhood_error", final_error},
-                            {"uncovered_fraction", double(uncovered) / double(samples)}};
+                            {"uncovered_fraction", uncovered}};
   if (!resumed)
     quality["neighbourhood_error_random_start"] = random_error;
   {
@@ -361,11 +269,11 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   std::int64_t peak = peak_resident_bytes();
   MPI_Allreduce(MPI_IN_PLACE, &peak, 1, MPI_INT64_T, MPI_MAX, comm.raw);
   report.metric("memory", {{"peak_resident_bytes_max_rank", peak},
-                           {"search_bytes_finest", std::int64_t(search_bytes)}});
+                           {"search_bytes_max_level", std::int64_t(synthesis.search_bytes)}});
   report.output(frames.path().string());
   log::info(log::cat("neighbourhood error ", final_error,
                      resumed ? std::string() : log::cat(" (random start ", random_error, ")"),
-                     ", uncovered samples ", double(uncovered) / double(samples)));
+                     ", uncovered samples ", uncovered));
 }
 
 } // namespace texsim::pipelines::surface_synthesis

@@ -142,10 +142,10 @@ SurfaceSynthesisSettings read_surface_synthesis_settings(const ConfigSection& se
     settings.neighbourhoods = default_neighbourhoods(settings.levels);
   }
   settings.orientation = read_orientation(section.section("orientation"), settings.mesh);
-  settings.search = section.choice<SearchMethodName>("search", settings.search,
-                                                     {{"exhaustive", SearchMethodName::exhaustive},
-                                                      {"tsvq", SearchMethodName::tsvq},
-                                                      {"pruned", SearchMethodName::pruned}});
+  settings.search = section.choice<SearchMethod>("search", settings.search,
+                                                 {{"exhaustive", SearchMethod::exhaustive},
+                                                  {"tsvq", SearchMethod::tsvq},
+                                                  {"pruned", SearchMethod::pruned}});
   const auto atlas = section.section("atlas");
   settings.atlas.resolution =
       atlas.get<int>("resolution", settings.atlas.resolution, [](int r) {

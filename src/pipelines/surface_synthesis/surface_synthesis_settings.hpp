@@ -4,6 +4,7 @@
 #include "core/config.hpp"
 #include "geom/mesh_source.hpp"
 #include "geom/surface_cells.hpp"
+#include "pipelines/surface_synthesis/neighbourhood_search.hpp"
 
 #include <array>
 #include <filesystem>
@@ -50,8 +51,6 @@ struct OrientationSettings {
   int sweeps = 30;                      ///< sweeps: relaxation sweeps per level
 };
 
-enum class SearchMethodName { exhaustive, tsvq, pruned };
-
 struct AtlasOutputSettings {
   int resolution = 1024; ///< resolution: atlas.png side, texels (0: no atlas)
   int gutter = 2;        ///< gutter: texels between charts
@@ -67,7 +66,7 @@ struct SurfaceSynthesisSettings {
   /// {5x5,2}, {7x7,2})
   std::vector<NeighbourhoodShape> neighbourhoods;
   OrientationSettings orientation;
-  SearchMethodName search = SearchMethodName::exhaustive; ///< search: exhaustive|tsvq|pruned
+  SearchMethod search = SearchMethod::exhaustive; ///< search: exhaustive|tsvq|pruned
   AtlasOutputSettings atlas;
   double displacement_scale = 0; ///< displacement.scale: luminance as height (0: none)
 

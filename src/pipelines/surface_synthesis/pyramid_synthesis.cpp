@@ -1,0 +1,126 @@
+#include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
+
+#include "core/rng.hpp"
+#include "pipelines/surface_synthesis/level_stencils.hpp"
+#include "pipelines/surface_synthesis/synthesis_order.hpp"
+
+#include <mpi.h>
+
+namespace texsim::pipelines::surface_synthesis {
+namespace {
+
+constexpr std::uint32_t kRandomStartStream = 0x5302;
+
+/// Every rank gets every vertex's colour of a finished level (geometry is replicated for now).
+void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours& colours) {
+  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[std::size_t(r)] = int(level.rank_offsets[std::size_t(r)]);
+    counts[std::size_t(r)] =
+        int(level.rank_offsets[std::size_t(r) + 1] - level.rank_offsets[std::size_t(r)]);
+  }
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.pixels.data(), counts.data(),
+                 offsets.data(), MPI_INT32_T, comm.raw);
+  for (int r = 0; r < comm.size; ++r) {
+    counts[std::size_t(r)] *= 3;
+    offsets[std::size_t(r)] *= 3;
+  }
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.colours.data(), counts.data(),
+                 offsets.data(), MPI_FLOAT, comm.raw);
+}
+
+} // namespace
+
+std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
+                                       const std::vector<img::RgbImage>& exemplar,
+                                       std::uint64_t seed) {
+  const CounterRng rng(seed, kRandomStartStream);
+  std::vector<LevelColours> colours(pyramid.size());
+  for (std::size_t k = 0; k < pyramid.size(); ++k) {
+    const auto n = std::size_t(pyramid[k].rank_offsets.back());
+    const auto pixels = exemplar[k].size();
+    colours[k].colours.resize(n);
+    colours[k].pixels.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      const auto pixel = std::size_t(rng.uniform(v, std::uint32_t(k)) * double(pixels));
+      colours[k].pixels[v] = std::int32_t(pixel);
+      colours[k].colours[v] = exemplar[k].data()[pixel];
+    }
+  }
+  return colours;
+}
+
+PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
+                                          const PyramidSynthesisInput& input,
+                                          std::vector<LevelColours>& colours,
+                                          const std::optional<SynthesisPosition>& resume,
+                                          const PyramidSynthesisHooks& hooks,
+                                          StageTimers& timers) {
+  PyramidSynthesisReport report;
+  const int levels = int(input.pyramid.size());
+  for (int k = levels - 1; k >= 0; --k) {
+    if (resume && k > resume->level)
+      continue; // finished before the checkpoint
+    const auto K = std::size_t(k);
+    const auto& level = input.pyramid[K];
+    const bool has_coarser = k + 1 < levels;
+    const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[K], has_coarser);
+    const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
+    const std::int64_t owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
+    std::optional<LevelStencils> stencils;
+    {
+      auto stage = timers.scope("stencils");
+      const bool reads_coarser = has_coarser && !layout.coarser.empty();
+      stencils = build_level_stencils(level, input.topologies[K], input.directions[K],
+                                      reads_coarser ? &input.pyramid[K + 1] : nullptr,
+                                      reads_coarser ? &input.topologies[K + 1] : nullptr,
+                                      reads_coarser ? std::span(input.parents[K])
+                                                    : std::span<const ParentFace>(),
+                                      layout, first, owned);
+    }
+    std::optional<LevelSynthesizer> synthesizer;
+    {
+      auto stage = timers.scope("synthesis");
+      synthesizer.emplace(comm, *stencils, level.rank_offsets, input.exemplar, k, layout,
+                          input.method, input.border);
+    }
+    report.search_bytes = std::max(report.search_bytes, synthesizer->memory_bytes());
+    const LevelColours* coarser = has_coarser ? &colours[K + 1] : nullptr;
+    if (k == 0 && !resume)
+      report.random_start_error = synthesizer->neighbourhood_error(colours[0], coarser);
+    PyramidSynthesisReport::Level level_report;
+    level_report.level = k;
+    for (const Pass pass : {Pass::extrapolate, Pass::refine}) {
+      const bool at_checkpoint = resume && k == resume->level;
+      if (at_checkpoint && int(pass) < int(resume->pass))
+        continue;
+      const std::int32_t first_class =
+          at_checkpoint && pass == resume->pass ? resume->next_class : 0;
+      // Pass 1 on the coarsest level keeps the random colours (Wei-Levoy 3.2).
+      if (synthesizer->runs(pass) && !(pass == Pass::extrapolate && !has_coarser)) {
+        auto stage = timers.scope("synthesis");
+        const auto order =
+            synthesis_order(comm, *stencils, level.mesh.num_vertices(), input.seed, k, pass);
+        level_report.classes[int(pass) - 1] = order.classes;
+        synthesizer->run_pass(pass, order, first_class, colours[K], coarser,
+                              [&](std::int32_t c) {
+                                if (hooks.after_class)
+                                  hooks.after_class(k, pass, c, order.classes);
+                              });
+      }
+      if (hooks.after_pass)
+        hooks.after_pass(k, pass);
+    }
+    share_level(comm, level, colours[K]);
+    std::int64_t counts[2] = {stencils->uncovered(),
+                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
+    MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
+    level_report.uncovered_fraction = counts[1] > 0 ? double(counts[0]) / double(counts[1]) : 0;
+    report.levels.push_back(level_report);
+    if (k == 0)
+      report.neighbourhood_error = synthesizer->neighbourhood_error(colours[0], coarser);
+  }
+  return report;
+}
+
+} // namespace texsim::pipelines::surface_synthesis

@@ -1,0 +1,67 @@
+#pragma once
+/// The multiresolution loop of Wei-Levoy (Table 3, lines 6-9): levels from coarse to fine, on
+/// each the stencils, the colour classes of both passes and the searches, with hooks where the
+/// pipeline checkpoints, stops and writes frames. Tests drive it on given pyramids (flat grids).
+#include "core/stage_timers.hpp"
+#include "geom/mesh_topology.hpp"
+#include "img/image.hpp"
+#include "par/comm.hpp"
+#include "pipelines/surface_synthesis/level_synthesizer.hpp"
+#include "pipelines/surface_synthesis/mesh_pyramid.hpp"
+#include "pipelines/surface_synthesis/orientation_field.hpp"
+#include "pipelines/surface_synthesis/synthesis_checkpoint.hpp"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace texsim::pipelines::surface_synthesis {
+
+/// Everything the loop reads; per-level vectors are indexed by level (0 = finest).
+struct PyramidSynthesisInput {
+  const std::vector<RetiledLevel>& pyramid;
+  const std::vector<geom::MeshTopology>& topologies;
+  const std::vector<std::vector<geom::Vec3>>& directions;
+  /// Level k's parent faces on level k + 1 (empty for the coarsest).
+  const std::vector<std::vector<ParentFace>>& parents;
+  const std::vector<img::RgbImage>& exemplar; ///< G_a, as many levels as the pyramid
+  std::vector<NeighbourhoodShape> shapes;     ///< per level, 0 = finest
+  SearchMethod method = SearchMethod::exhaustive;
+  ExemplarBorder border = ExemplarBorder::toroidal;
+  std::uint64_t seed = 1;
+};
+
+struct PyramidSynthesisHooks {
+  /// After class `c` of `pass` on `level` (every rank).
+  std::function<void(int level, Pass pass, std::int32_t c, std::int32_t classes)> after_class;
+  /// After a pass (also a skipped one) on `level`.
+  std::function<void(int level, Pass pass)> after_pass;
+};
+
+struct PyramidSynthesisReport {
+  struct Level {
+    int level = 0;
+    std::int32_t classes[2] = {0, 0}; ///< pass 1, pass 2 (0: pass skipped)
+    double uncovered_fraction = 0;
+  };
+  std::vector<Level> levels;
+  double neighbourhood_error = 0;      ///< finest level, after synthesis
+  double random_start_error = 0;       ///< finest level before synthesis (fresh runs only)
+  std::size_t search_bytes = 0;        ///< largest level's tables and search structures
+};
+
+/// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5;
+/// Philox by level and vertex id): the coarsest level keeps them.
+std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
+                                       const std::vector<img::RgbImage>& exemplar,
+                                       std::uint64_t seed);
+
+/// Synthesises `colours` (from random_start or a checkpoint) from `resume` on (nullopt: from the
+/// start); `timers` gets "stencils" and "synthesis". Collective.
+PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
+                                          const PyramidSynthesisInput& input,
+                                          std::vector<LevelColours>& colours,
+                                          const std::optional<SynthesisPosition>& resume,
+                                          const PyramidSynthesisHooks& hooks, StageTimers& timers);
+
+} // namespace texsim::pipelines::surface_synthesis
