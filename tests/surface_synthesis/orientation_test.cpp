@@ -1,7 +1,7 @@
 // Texture orientation: the exact per-vertex minimiser against a 0.01 degree scan, energy that never
 // rises over sweeps, multiples of 90 degrees fixed for 4-way and moved for 2-way symmetry, a
-// relaxed sphere that is smooth almost everywhere, the same bits on any rank count, and inherited
-// directions that reproduce a smooth parent field.
+// relaxed sphere that is smooth almost everywhere, the same bits on any rank and thread count, and
+// inherited directions that reproduce a smooth parent field.
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
@@ -13,6 +13,7 @@
 #include "support/gather_by_id.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -300,7 +301,7 @@ std::vector<unsigned char> bytes_of(const std::vector<geom::Vec3>& directions) {
   return bytes;
 }
 
-TEST(OrientationRelaxation, SameBitsOnAnyRankCount) {
+TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   const Level coarse(geom::icosphere(2));
   const Level fine(geom::noisy(geom::icosphere(3), 0.02, 6));
   const auto parents = closest_parent_faces(fine, coarse);
@@ -317,6 +318,13 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankCount) {
   auto serial = start;
   const auto serial_report = relax_directions(self, equal_runs(self, fine.topology.num_vertices()),
                                               fine.topology, fine.normals, &coarser, 2, 10, serial);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(3);
+  auto threaded = start;
+  relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.topology,
+                   fine.normals, &coarser, 2, 10, threaded);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(bytes_of(threaded), bytes_of(serial));
   EXPECT_EQ(bytes_of(distributed), bytes_of(serial));
   EXPECT_EQ(distributed_report.energy, serial_report.energy);
   EXPECT_EQ(distributed_report.colour_classes, serial_report.colour_classes);
