@@ -1,0 +1,107 @@
+#pragma once
+/// Wei and Levoy 2001, section 3.3 (Fig. 5): flatten a patch of the mesh around a vertex and find
+/// where the neighbourhood template's samples fall on it. The flattening follows Praun et al.'s
+/// lapped textures: seed triangles projected orthographically onto the vertex's (s, t) plane,
+/// then neighbouring triangles unfolded about their shared edge in order of increasing distance,
+/// growth stopped where the surface folds away from the frame.
+#include "geom/mesh_topology.hpp"
+#include "geom/triangle_mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <tuple>
+#include <vector>
+
+namespace texsim::pipelines::surface_synthesis {
+
+/// Local frame at a vertex: origin on the surface, s (texture right), t = n x s (texture up), n
+/// (unit normal). s, t, n must be orthonormal (model units for origin).
+struct TangentFrame {
+  geom::Vec3 origin, s, t, n;
+};
+
+/// Triangles of the patch, their vertex ids and flattened corners (model units; corner i of
+/// triangles[k] is vertex vertices[k][i] at corners[k][i]), in the order they were added. A vertex
+/// shared by two patch triangles may sit at two places when the patch is not developable: each
+/// triangle carries its own corners.
+struct FlattenedPatch {
+  std::vector<std::int32_t> triangles;
+  std::vector<geom::Triangle> vertices;
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;
+};
+
+/// Where one template sample falls: the patch triangle's three vertex ids and barycentric
+/// weights, or uncovered (vertices[0] == -1).
+struct SampleWeights {
+  std::array<std::int32_t, 3> vertices{-1, -1, -1};
+  std::array<double, 3> weights{};
+  bool covered() const { return vertices[0] >= 0; }
+};
+
+class PatchScratch;
+
+/// Flattens the patch around frame.origin into `out` (cleared first).
+///
+/// The seeds (the triangles around p, or p's parent face on the coarser level; repeats ignored)
+/// are projected orthographically onto (s, t) about frame.origin. Then triangles across the edges
+/// of patch triangles are unfolded about the shared, already flattened edge: the new corner is
+/// placed on the far side of that edge at its 3D distances from the edge's two ends, so a triangle
+/// keeps all three 3D edge lengths whenever the shared edge has its own (every edge except those
+/// of seeds, which the projection shortens). Candidates are added in order of increasing distance
+/// of their flattened triangle from the origin (ties: lower triangle id, then earlier parent), as
+/// long as that distance is <= radius; the first placement of a triangle wins.
+///
+/// Where growth stops (the paper's "flips"): a triangle whose 3D normal makes 90 degrees or more
+/// with frame.n (the surface folds back, its orthographic view would be flipped) is never added,
+/// neither as a seed nor by unfolding, and growth does not continue through it. A placement whose
+/// flattened corners have non-positive signed area (a seed edge shortened below what the triangle
+/// can span, or inconsistently oriented neighbours) is not taken. Overlaps between flattened
+/// triangles are not searched for (that would cost the square of the patch size): they arise only
+/// where the surface wraps around by more than a full turn or folds below 90 degrees, and
+/// sample_patch resolves them by patch order, i.e. the nearer triangle wins.
+///
+/// Cost: O(k log k) for a patch of k triangles, no heap allocation once scratch and out have grown
+/// to the patch size. Thread-safe for separate scratch and out.
+void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& topology,
+                   std::span<const std::int32_t> seed_triangles, const TangentFrame& frame,
+                   double radius, FlattenedPatch& out, PatchScratch& scratch);
+
+/// Each sample position (flattened coordinates, model units) located in the first patch triangle
+/// (in patch order) that contains it, with its barycentric weights. Edges are inclusive with a
+/// tolerance of 1e-12 in barycentric coordinates (a sample on a grid vertex is found despite
+/// rounding); accepted weights are clamped to [0, 1] and renormalised to sum 1. Samples in no
+/// triangle are left uncovered. out.size() must equal positions.size(). Cost O(samples x patch).
+void sample_patch(const FlattenedPatch& patch, std::span<const Eigen::Vector2d> positions,
+                  std::span<SampleWeights> out);
+
+/// Reusable working memory of flatten_patch: per-triangle marks of the current call and the
+/// candidate heap. One per thread; its contents between calls mean nothing to the caller.
+class PatchScratch {
+public:
+  PatchScratch() = default;
+
+private:
+  friend void flatten_patch(const geom::TriangleMesh&, const geom::MeshTopology&,
+                            std::span<const std::int32_t>, const TangentFrame&, double,
+                            FlattenedPatch&, PatchScratch&);
+
+  /// One way of placing a triangle: reached across an edge of patch triangle `parent`.
+  struct Candidate {
+    double distance;
+    std::int32_t triangle;
+    std::int32_t parent;
+    std::array<Eigen::Vector2d, 3> corners;
+    /// Order of the min-heap: nearer first, then lower triangle id, then earlier parent.
+    auto key() const { return std::tie(distance, triangle, parent); }
+  };
+
+  /// mark[t] == call_id: t is in the patch or was found to fold away during this call.
+  std::vector<std::uint32_t> mark;
+  std::uint32_t call_id = 0;
+  std::vector<Candidate> heap;
+};
+
+} // namespace texsim::pipelines::surface_synthesis
