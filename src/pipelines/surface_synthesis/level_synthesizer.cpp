@@ -31,6 +31,9 @@ struct ColourUpdate {
   float rgb[3];
 };
 
+/// Queries per search call (the exhaustive scan's register blocking takes 8 at a time).
+constexpr std::size_t kBatch = 16;
+
 int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
   return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
              rank_offsets.begin()) -
@@ -77,9 +80,9 @@ LevelSynthesizer::LevelSynthesizer(const par::Comm& comm, const LevelStencils& s
     data->pass = pass;
     data->read_current = pass == Pass::refine;
     data->exemplar = exemplar_neighbourhoods(pyramid, level, used, pass, border);
-    data->search = make_neighbourhood_search(method, data->exemplar.table);
     if (method == SearchMethod::tsvq)
       data->exact = make_neighbourhood_search(SearchMethod::pruned, data->exemplar.table);
+    data->search = make_neighbourhood_search(method, std::move(data->exemplar.table));
     passes_.push_back(std::move(data));
   }
 
@@ -116,7 +119,7 @@ bool LevelSynthesizer::runs(Pass pass) const {
 
 void LevelSynthesizer::query(const PassData& data, std::int64_t local, const LevelColours& current,
                              const LevelColours* coarser, std::vector<double>& out) const {
-  out.resize(std::size_t(data.exemplar.table.dimension));
+  out.resize(std::size_t(data.search->dimension()));
   double* value = out.data();
   if (data.read_current)
     for (const auto& sample : stencils_.current_of(local)) {
@@ -138,18 +141,28 @@ void LevelSynthesizer::run_pass(Pass pass, const SynthesisOrder& order, std::int
   TEXSIM_VERIFY(data, "run_pass on a pass that reads nothing");
   for (std::int32_t c = first_class; c < order.classes; ++c) {
     const auto& members = order.owned_members[std::size_t(c)];
+    // Queries go to the search in batches: the exhaustive scan reads the table once per batch.
+    const auto chunks = (members.size() + kBatch - 1) / kBatch;
 #pragma omp parallel
     {
-      std::vector<double> q;
-#pragma omp for schedule(dynamic, 16)
-      for (std::size_t m = 0; m < members.size(); ++m) {
-        const std::int64_t local = members[m];
-        query(*data, local, current, coarser, q);
-        const std::int64_t row = data->search->nearest(q);
-        const std::int32_t pixel = data->exemplar.pixels[std::size_t(row)];
-        const auto v = std::size_t(stencils_.first + local);
-        current.pixels[v] = pixel;
-        current.colours[v] = image_.data()[std::size_t(pixel)];
+      std::vector<double> q, batch;
+      std::int64_t rows[kBatch];
+#pragma omp for schedule(dynamic, 2)
+      for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+        const std::size_t begin = chunk * kBatch;
+        const std::size_t count = std::min(kBatch, members.size() - begin);
+        batch.clear();
+        for (std::size_t m = begin; m < begin + count; ++m) {
+          query(*data, members[m], current, coarser, q);
+          batch.insert(batch.end(), q.begin(), q.end());
+        }
+        data->search->nearest_batch(batch, {rows, count});
+        for (std::size_t m = 0; m < count; ++m) {
+          const std::int32_t pixel = data->exemplar.pixels[std::size_t(rows[m])];
+          const auto v = std::size_t(stencils_.first + members[begin + m]);
+          current.pixels[v] = pixel;
+          current.colours[v] = image_.data()[std::size_t(pixel)];
+        }
       }
     }
     send_class(members, current);
@@ -179,8 +192,8 @@ double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
   const PassData* data = passes_[1] ? passes_[1].get() : passes_[0].get();
   double sums[2] = {0, 0}; // distance sum, vertex count
   if (data) {
-    const auto& table = data->exemplar.table;
     const NeighbourhoodSearch& exact = data->exact ? *data->exact : *data->search;
+    const auto& table = exact.table();
     std::vector<double> q;
     for (std::int64_t local = 0; local < stencils_.owned; ++local) {
       query(*data, local, current, coarser, q);
@@ -209,7 +222,7 @@ std::size_t LevelSynthesizer::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& data : passes_)
     if (data)
-      bytes += data->exemplar.table.values.size() * sizeof(float) + data->search->memory_bytes() +
+      bytes += data->search->memory_bytes() +
                (data->exact ? data->exact->memory_bytes() : 0);
   return bytes;
 }

@@ -19,9 +19,10 @@ namespace texsim::pipelines::surface_synthesis {
 /// CounterRng stream of random_directions().
 inline constexpr std::uint32_t kOrientationStream = 0x5701;
 
-/// A vertex's parent face on the coarser level: its three vertex ids there and the barycentric
-/// weights of the hit point.
+/// A vertex's parent face on the coarser level: the triangle, its three vertex ids there and the
+/// barycentric weights of the hit point.
 struct ParentFace {
+  std::int32_t triangle = -1;
   std::array<std::int32_t, 3> vertices{-1, -1, -1};
   std::array<double, 3> weights{};
   bool found() const { return vertices[0] >= 0; }

@@ -31,6 +31,7 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
     if (!hit)
       continue;
     auto& parent = parents[std::size_t(i)];
+    parent.triangle = hit->triangle;
     parent.vertices = coarse.triangles[std::size_t(hit->triangle)];
     parent.weights = barycentric_weights(coarse, hit->triangle, hit->point);
   }
