@@ -40,14 +40,16 @@ struct CoarserOrientation {
 /// the lower axis), so it depends on n alone.
 std::array<geom::Vec3, 2> tangent_basis(const geom::Vec3& n);
 
+/// Bound on 1 + cos(angle between two normals) below which they count as opposite.
+inline constexpr double kOppositeNormals = 1e-6;
+
 /// `v` rotated by the minimal rotation taking unit normal `from` onto unit normal `to` (about
 /// from x to). Opposite normals have no unique minimal rotation: std::nullopt when
 /// 1 + from.to < kOppositeNormals.
 std::optional<geom::Vec3> transport(const geom::Vec3& v, const geom::Vec3& from,
                                     const geom::Vec3& to);
-inline constexpr double kOppositeNormals = 1e-6;
 
-/// Signed angle in (-pi, pi] from `from` to `to` measured counter-clockwise about the unit normal
+/// Signed angle in [-pi, pi] from `from` to `to` measured counter-clockwise about the unit normal
 /// n (both vectors are used through their components in the plane normal to n).
 double signed_angle(const geom::Vec3& from, const geom::Vec3& to, const geom::Vec3& n);
 
@@ -65,7 +67,8 @@ geom::Vec3 direction_at_angle(const geom::Vec3& n, double angle);
 
 /// Random unit tangent directions: vertex v's angle is 2 pi U with U from
 /// CounterRng(seed, kOrientationStream).uniform(v, level), measured in tangent_basis(normals[v]).
-/// Rank- and thread-count independent by construction.
+/// Rank- and thread-count independent by construction. Normals here and below are unit vectors,
+/// one per vertex of the level.
 std::vector<geom::Vec3> random_directions(std::span<const geom::Vec3> normals, std::uint64_t seed,
                                           int level);
 
