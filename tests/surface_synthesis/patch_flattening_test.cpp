@@ -420,6 +420,28 @@ TEST(PatchFlattening, FoldsBelowNinetyDegreesAreUnfoldedIsometrically) {
   }
 }
 
+TEST(PatchFlattening, ATriangleFlippedBetweenPlacedVerticesIsNotAdded) {
+  // A saddle vertex: 8 triangles around the origin, ring vertices alternately at z = +-0.5, all
+  // facing +z, their angles at the centre summing to 548 degrees. Grown from one of them, the fan
+  // wraps past a full turn; the last triangle, whose vertices are all placed by then, comes out
+  // flipped and stays out.
+  geom::TriangleMesh mesh;
+  mesh.positions.emplace_back(0.0, 0.0, 0.0);
+  for (int k = 0; k < 8; ++k) {
+    const double angle = k * std::numbers::pi / 4.0;
+    mesh.positions.emplace_back(std::cos(angle), std::sin(angle), k % 2 == 0 ? 0.5 : -0.5);
+  }
+  for (int k = 0; k < 8; ++k) {
+    mesh.triangles.push_back({0, k + 1, (k + 1) % 8 + 1});
+  }
+  const geom::MeshTopology topology(mesh);
+  const TangentFrame frame = frame_at(Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 0, 1));
+  PatchScratch scratch;
+  FlattenedPatch patch;
+  flatten_patch(mesh, topology, std::array{0}, frame, 10.0, patch, scratch);
+  EXPECT_EQ(patch.triangles, (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5, 6}));
+}
+
 TEST(PatchFlattening, SamplesBeyondAMeshBoundaryAreUncovered) {
   constexpr int kColumns = 5;
   constexpr double h = 0.1;

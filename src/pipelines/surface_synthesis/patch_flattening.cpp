@@ -20,12 +20,12 @@ double signed_area2(const Corners& c) {
   return cross(c[1] - c[0], c[2] - c[0]);
 }
 
-/// Distance from the origin to the segment [a, b].
-double origin_segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+/// Squared distance from the origin to the segment [a, b].
+double origin_segment_distance2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double length2 = ab.squaredNorm();
   const double along = length2 > 0.0 ? std::clamp(-a.dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + along * ab).norm();
+  return (a + along * ab).squaredNorm();
 }
 
 /// Distance from the origin to a positively oriented flattened triangle (0 when it contains it).
@@ -37,9 +37,9 @@ double origin_distance(const Corners& c) {
   if (inside) {
     return 0.0;
   }
-  double distance = origin_segment_distance(c[0], c[1]);
-  distance = std::min(distance, origin_segment_distance(c[1], c[2]));
-  return std::min(distance, origin_segment_distance(c[2], c[0]));
+  return std::sqrt(
+      std::min({origin_segment_distance2(c[0], c[1]), origin_segment_distance2(c[1], c[2]),
+                origin_segment_distance2(c[2], c[0])}));
 }
 
 /// The triangle's normal leans away from n by 90 degrees or more: the surface folds back.
@@ -130,6 +130,16 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
     }
   }
 
+  // Corners of `triangle` with its corner `opposite` at `far_position`, the others where placed.
+  const auto corners_with = [&](std::int32_t triangle, int opposite,
+                                const Eigen::Vector2d& far_position) {
+    Corners corners;
+    for (int k = 0; k < 3; ++k) {
+      corners[k] = k == opposite ? far_position : position[mesh.triangles[triangle][k]];
+    }
+    return corners;
+  };
+
   // Offers every triangle across an edge of patch triangle `parent` that is still open.
   const auto offer_neighbours = [&](std::int32_t parent) {
     const std::int32_t triangle = out.triangles[parent];
@@ -146,28 +156,27 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
           triangle_done[next] = call_id;
           continue;
         }
+        // folds_away() has rejected triangles with a repeated vertex (zero normal), so `next`
+        // has exactly one corner besides a and b.
         const auto& w = mesh.triangles[next];
-        Candidate candidate{0.0, next, parent, -1, {}};
-        for (int k = 0; k < 3; ++k) {
-          if (w[k] != a && w[k] != b) {
-            candidate.opposite = k;
-          }
+        int opposite = 0;
+        while (w[opposite] == a || w[opposite] == b) {
+          ++opposite;
         }
-        const std::int32_t c = w[candidate.opposite];
-        for (int k = 0; k < 3; ++k) {
-          if (w[k] != c || placed(c)) {
-            candidate.corners[k] = position[w[k]];
-          }
-        }
-        if (!placed(c)) {
+        const std::int32_t c = w[opposite];
+        Eigen::Vector2d far_position;
+        if (placed(c)) {
+          far_position = position[c];
+        } else {
           const geom::Vec3& far = mesh.positions[c];
           if (!unfold_corner(position[a], position[b], out.corners[parent][corner],
                              (far - mesh.positions[a]).norm(), (far - mesh.positions[b]).norm(),
-                             candidate.corners[candidate.opposite])) {
+                             far_position)) {
             continue;
           }
         }
-        if (!(signed_area2(candidate.corners) > 0.0)) {
+        const Corners corners = corners_with(next, opposite, far_position);
+        if (!(signed_area2(corners) > 0.0)) {
           // Flipped between placed vertices (every path gives these corners), or an unfolding
           // that came out flipped through inconsistently oriented neighbours.
           if (placed(c)) {
@@ -175,7 +184,7 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
           }
           continue;
         }
-        candidate.distance = origin_distance(candidate.corners);
+        const Candidate candidate{origin_distance(corners), next, parent, opposite, far_position};
         if (candidate.distance <= radius) {
           push(candidate);
         }
@@ -189,28 +198,30 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
   }
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), later);
-    Candidate candidate = heap.back();
+    const Candidate candidate = heap.back();
     heap.pop_back();
     if (triangle_done[candidate.triangle] == call_id) {
       continue;
     }
     const std::int32_t c = mesh.triangles[candidate.triangle][candidate.opposite];
-    if (placed(c) && position[c] != candidate.corners[candidate.opposite]) {
+    if (placed(c) && position[c] != candidate.far_position) {
       // The far vertex was placed by another triangle since this candidate was offered: the
       // patch keeps one position per vertex (no cracks where growth fronts meet), so the
       // candidate is judged again with that position.
-      candidate.corners[candidate.opposite] = position[c];
-      if (!(signed_area2(candidate.corners) > 0.0)) {
+      const Corners corners = corners_with(candidate.triangle, candidate.opposite, position[c]);
+      if (!(signed_area2(corners) > 0.0)) {
         triangle_done[candidate.triangle] = call_id;
         continue;
       }
-      candidate.distance = origin_distance(candidate.corners);
-      if (candidate.distance <= radius) {
-        push(candidate);
+      const Candidate again{origin_distance(corners), candidate.triangle, candidate.parent,
+                            candidate.opposite, position[c]};
+      if (again.distance <= radius) {
+        push(again);
       }
       continue;
     }
-    add(candidate.triangle, candidate.corners);
+    add(candidate.triangle,
+        corners_with(candidate.triangle, candidate.opposite, candidate.far_position));
     offer_neighbours(static_cast<std::int32_t>(out.triangles.size()) - 1);
   }
 }
@@ -227,18 +238,19 @@ void sample_patch(const FlattenedPatch& patch, std::span<const Eigen::Vector2d> 
     for (std::size_t k = 0; k < patch.triangles.size(); ++k) {
       const Corners& c = patch.corners[k];
       const double area2 = signed_area2(c);
-      // w_i: area of the sub-triangle opposite corner i, relative to the whole.
+      // w_i: area of the sub-triangle opposite corner i, relative to the whole (scaled by area2
+      // until the sample is known to be inside).
       std::array<double, 3> w{};
       bool inside = true;
       for (int i = 0; i < 3 && inside; ++i) {
-        w[i] = cross(c[(i + 2) % 3] - c[(i + 1) % 3], q - c[(i + 1) % 3]) / area2;
-        inside = w[i] >= -kTolerance;
+        w[i] = cross(c[(i + 2) % 3] - c[(i + 1) % 3], q - c[(i + 1) % 3]);
+        inside = w[i] >= -kTolerance * area2;
       }
       if (!inside) {
         continue;
       }
       for (double& weight : w) {
-        weight = std::clamp(weight, 0.0, 1.0);
+        weight = std::max(weight, 0.0);
       }
       const double sum = w[0] + w[1] + w[2];
       for (double& weight : w) {

@@ -95,13 +95,13 @@ private:
                             FlattenedPatch&, PatchScratch&);
 
   /// One way of placing a triangle: reached across an edge of patch triangle `parent`, its
-  /// corner `opposite` that edge placed by unfolding or where it already was.
+  /// corner `opposite` that edge at far_position (unfolded, or where that vertex already was).
   struct Candidate {
     double distance;
     std::int32_t triangle;
     std::int32_t parent;
     int opposite;
-    std::array<Eigen::Vector2d, 3> corners;
+    Eigen::Vector2d far_position;
     /// Order of the min-heap: nearer first, then lower triangle id, then earlier parent.
     auto key() const { return std::tie(distance, triangle, parent); }
   };
