@@ -48,15 +48,16 @@ class PatchScratch;
 /// The seeds (the triangles around p, or p's parent face on the coarser level; repeats ignored)
 /// are projected orthographically onto (s, t) about frame.origin. Then triangles across the edges
 /// of patch triangles are unfolded about the shared, already flattened edge: a far vertex not yet
-/// placed goes on the far side of that edge at its 3D distances from the edge's two ends, so it
-/// keeps all three 3D edge lengths whenever the shared edge has its own (every edge not between
-/// two seed vertices, which the projection shortens). Every vertex has one place in the patch:
-/// a triangle whose three vertices are already placed (where growth fronts meet around a curved
-/// region) takes them as they are, so the patch has no cracks, and its edges are stretched or
-/// shrunk by the surface's angle deficit instead. On a developable surface every path places a
+/// placed goes on the far side of that edge at its 3D distances from the edge's two ends, so the
+/// triangle keeps all three 3D edge lengths whenever the shared edge has its own (every edge not
+/// between two seed vertices, which the projection shortens). Every vertex has one place in the
+/// patch: a triangle whose three vertices are already placed (where growth fronts meet around a
+/// curved region) takes them as they are, so the patch has no cracks, and its edges are stretched
+/// or shrunk by the surface's angle deficit instead. On a developable surface every path places a
 /// vertex at the same point, and with seeds in the frame's plane the patch is an isometry.
 /// Candidates are added in order of increasing distance of their flattened triangle from the
-/// origin (ties: lower triangle id, then earlier parent), as long as that distance is <= radius.
+/// origin (ties: lower triangle id, then earlier parent), as long as that distance is <= radius;
+/// a candidate whose far vertex was placed meanwhile is judged again at that vertex's place.
 ///
 /// Where growth stops (the paper's "flips"): a triangle whose 3D normal makes 90 degrees or more
 /// with frame.n (the surface folds back; its orthographic view would be flipped) is never added,
@@ -68,8 +69,9 @@ class PatchScratch;
 /// order, the nearer triangle first.
 ///
 /// Cost: O(k log k) for a patch of k triangles, no heap allocation once scratch and out have grown
-/// to the patch size (the scratch holds per-vertex and per-triangle marks for the whole mesh,
-/// allocated on the first call). Thread-safe for separate scratch and out.
+/// to the patch size (the scratch holds marks and a 2D position per vertex and a mark per
+/// triangle of the whole mesh, about 24 bytes per vertex, allocated on the first call). Thread-safe
+/// for separate scratch and out.
 void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& topology,
                    std::span<const std::int32_t> seed_triangles, const TangentFrame& frame,
                    double radius, FlattenedPatch& out, PatchScratch& scratch);
@@ -77,7 +79,7 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
 /// Each sample position (flattened coordinates, model units) located in the first patch triangle
 /// (in patch order) that contains it, with its barycentric weights. Edges are inclusive with a
 /// tolerance of 1e-12 in barycentric coordinates (a sample on a grid vertex is found despite
-/// rounding); accepted weights are clamped to [0, 1] and renormalised to sum 1. Samples in no
+/// rounding); accepted weights are clamped at 0 and renormalised to sum 1. Samples in no
 /// triangle are left uncovered. out.size() must equal positions.size(). Cost O(samples x patch).
 void sample_patch(const FlattenedPatch& patch, std::span<const Eigen::Vector2d> positions,
                   std::span<SampleWeights> out);
