@@ -20,12 +20,12 @@ double signed_area2(const Corners& c) {
   return cross(c[1] - c[0], c[2] - c[0]);
 }
 
-/// Distance from the origin to the segment [a, b].
-double origin_segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+/// Squared distance from the origin to the segment [a, b].
+double origin_segment_distance2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double length2 = ab.squaredNorm();
   const double along = length2 > 0.0 ? std::clamp(-a.dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + along * ab).norm();
+  return (a + along * ab).squaredNorm();
 }
 
 /// Distance from the origin to a positively oriented flattened triangle (0 when it contains it).
@@ -37,9 +37,9 @@ double origin_distance(const Corners& c) {
   if (inside) {
     return 0.0;
   }
-  double distance = origin_segment_distance(c[0], c[1]);
-  distance = std::min(distance, origin_segment_distance(c[1], c[2]));
-  return std::min(distance, origin_segment_distance(c[2], c[0]));
+  return std::sqrt(
+      std::min({origin_segment_distance2(c[0], c[1]), origin_segment_distance2(c[1], c[2]),
+                origin_segment_distance2(c[2], c[0])}));
 }
 
 /// The triangle's normal leans away from n by 90 degrees or more: the surface folds back.
@@ -82,23 +82,34 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
   out.triangles.clear();
   out.vertices.clear();
   out.corners.clear();
-  auto& mark = scratch.mark;
-  if (mark.size() != static_cast<std::size_t>(mesh.num_triangles()) || ++scratch.call_id == 0) {
+  if (scratch.triangle_mark.size() != static_cast<std::size_t>(mesh.num_triangles()) ||
+      scratch.vertex_mark.size() != static_cast<std::size_t>(mesh.num_vertices()) ||
+      ++scratch.call_id == 0) {
     // New mesh or the call counter wrapped: forget every mark.
-    mark.assign(static_cast<std::size_t>(mesh.num_triangles()), 0);
+    scratch.triangle_mark.assign(static_cast<std::size_t>(mesh.num_triangles()), 0);
+    scratch.vertex_mark.assign(static_cast<std::size_t>(mesh.num_vertices()), 0);
+    scratch.vertex_position.resize(static_cast<std::size_t>(mesh.num_vertices()));
     scratch.call_id = 1;
   }
   const std::uint32_t call_id = scratch.call_id;
+  auto& triangle_done = scratch.triangle_mark;
+  const auto placed = [&](std::int32_t v) { return scratch.vertex_mark[v] == call_id; };
+  const auto& position = scratch.vertex_position;
   auto& heap = scratch.heap;
   heap.clear();
   const auto later = [](const Candidate& x, const Candidate& y) { return y.key() < x.key(); };
-  const auto flatten = [&](const geom::Vec3& p) {
-    const geom::Vec3 r = p - frame.origin;
-    return Eigen::Vector2d(r.dot(frame.s), r.dot(frame.t));
+  const auto push = [&](const Candidate& candidate) {
+    heap.push_back(candidate);
+    std::push_heap(heap.begin(), heap.end(), later);
   };
 
   const auto add = [&](std::int32_t triangle, const Corners& corners) {
-    mark[triangle] = call_id;
+    triangle_done[triangle] = call_id;
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t v = mesh.triangles[triangle][i];
+      scratch.vertex_mark[v] = call_id;
+      scratch.vertex_position[v] = corners[i];
+    }
     out.triangles.push_back(triangle);
     out.vertices.push_back(mesh.triangles[triangle]);
     out.corners.push_back(corners);
@@ -106,57 +117,76 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
   for (const std::int32_t seed : seed_triangles) {
     TEXSIM_ASSERT(seed >= 0 && seed < mesh.num_triangles(),
                   "seed triangle " << seed << " of " << mesh.num_triangles());
-    if (mark[seed] == call_id || folds_away(mesh, seed, frame.n)) {
+    if (triangle_done[seed] == call_id || folds_away(mesh, seed, frame.n)) {
       continue;
     }
-    const auto& v = mesh.triangles[seed];
-    const Corners corners{flatten(mesh.positions[v[0]]), flatten(mesh.positions[v[1]]),
-                          flatten(mesh.positions[v[2]])};
+    Corners corners;
+    for (int i = 0; i < 3; ++i) {
+      const geom::Vec3 r = mesh.positions[mesh.triangles[seed][i]] - frame.origin;
+      corners[i] = Eigen::Vector2d(r.dot(frame.s), r.dot(frame.t));
+    }
     if (signed_area2(corners) > 0.0) {
       add(seed, corners);
     }
   }
 
-  // Offers every unmarked triangle across an edge of patch triangle `parent` as a candidate.
+  // Corners of `triangle` with its corner `opposite` at `far_position`, the others where placed.
+  const auto corners_with = [&](std::int32_t triangle, int opposite,
+                                const Eigen::Vector2d& far_position) {
+    Corners corners;
+    for (int k = 0; k < 3; ++k) {
+      corners[k] = k == opposite ? far_position : position[mesh.triangles[triangle][k]];
+    }
+    return corners;
+  };
+
+  // Offers every triangle across an edge of patch triangle `parent` that is still open.
   const auto offer_neighbours = [&](std::int32_t parent) {
     const std::int32_t triangle = out.triangles[parent];
-    const Corners& corners = out.corners[parent];
     for (int corner = 0; corner < 3; ++corner) {
-      // The edge opposite `corner` joins corners i and j.
-      const int i = (corner + 1) % 3, j = (corner + 2) % 3;
-      const std::int32_t vi = mesh.triangles[triangle][i], vj = mesh.triangles[triangle][j];
-      for (const std::int32_t next :
-           topology.edge_triangles(topology.triangle_edges(triangle)[corner])) {
-        if (mark[next] == call_id) {
+      // The edge opposite `corner` joins vertices a and b.
+      const std::int32_t a = out.vertices[parent][(corner + 1) % 3];
+      const std::int32_t b = out.vertices[parent][(corner + 2) % 3];
+      const std::int32_t edge = topology.triangle_edges(triangle)[corner];
+      for (const std::int32_t next : topology.edge_triangles(edge)) {
+        if (triangle_done[next] == call_id) {
           continue;
         }
         if (folds_away(mesh, next, frame.n)) {
-          mark[next] = call_id;
+          triangle_done[next] = call_id;
           continue;
         }
+        // folds_away() has rejected triangles with a repeated vertex (zero normal), so `next`
+        // has exactly one corner besides a and b.
         const auto& w = mesh.triangles[next];
-        Candidate candidate{0.0, next, parent, {}};
-        int opposite = -1;
-        for (int k = 0; k < 3; ++k) {
-          if (w[k] == vi) {
-            candidate.corners[k] = corners[i];
-          } else if (w[k] == vj) {
-            candidate.corners[k] = corners[j];
-          } else {
-            opposite = k;
+        int opposite = 0;
+        while (w[opposite] == a || w[opposite] == b) {
+          ++opposite;
+        }
+        const std::int32_t c = w[opposite];
+        Eigen::Vector2d far_position;
+        if (placed(c)) {
+          far_position = position[c];
+        } else {
+          const geom::Vec3& far = mesh.positions[c];
+          if (!unfold_corner(position[a], position[b], out.corners[parent][corner],
+                             (far - mesh.positions[a]).norm(), (far - mesh.positions[b]).norm(),
+                             far_position)) {
+            continue;
           }
         }
-        const geom::Vec3& far = mesh.positions[w[opposite]];
-        if (!unfold_corner(corners[i], corners[j], corners[corner],
-                           (far - mesh.positions[vi]).norm(), (far - mesh.positions[vj]).norm(),
-                           candidate.corners[opposite]) ||
-            !(signed_area2(candidate.corners) > 0.0)) {
+        const Corners corners = corners_with(next, opposite, far_position);
+        if (!(signed_area2(corners) > 0.0)) {
+          // Flipped between placed vertices (every path gives these corners), or an unfolding
+          // that came out flipped through inconsistently oriented neighbours.
+          if (placed(c)) {
+            triangle_done[next] = call_id;
+          }
           continue;
         }
-        candidate.distance = origin_distance(candidate.corners);
+        const Candidate candidate{origin_distance(corners), next, parent, opposite, far_position};
         if (candidate.distance <= radius) {
-          heap.push_back(candidate);
-          std::push_heap(heap.begin(), heap.end(), later);
+          push(candidate);
         }
       }
     }
@@ -170,10 +200,28 @@ void flatten_patch(const geom::TriangleMesh& mesh, const geom::MeshTopology& top
     std::pop_heap(heap.begin(), heap.end(), later);
     const Candidate candidate = heap.back();
     heap.pop_back();
-    if (mark[candidate.triangle] == call_id) {
+    if (triangle_done[candidate.triangle] == call_id) {
       continue;
     }
-    add(candidate.triangle, candidate.corners);
+    const std::int32_t c = mesh.triangles[candidate.triangle][candidate.opposite];
+    if (placed(c) && position[c] != candidate.far_position) {
+      // The far vertex was placed by another triangle since this candidate was offered: the
+      // patch keeps one position per vertex (no cracks where growth fronts meet), so the
+      // candidate is judged again with that position.
+      const Corners corners = corners_with(candidate.triangle, candidate.opposite, position[c]);
+      if (!(signed_area2(corners) > 0.0)) {
+        triangle_done[candidate.triangle] = call_id;
+        continue;
+      }
+      const Candidate again{origin_distance(corners), candidate.triangle, candidate.parent,
+                            candidate.opposite, position[c]};
+      if (again.distance <= radius) {
+        push(again);
+      }
+      continue;
+    }
+    add(candidate.triangle,
+        corners_with(candidate.triangle, candidate.opposite, candidate.far_position));
     offer_neighbours(static_cast<std::int32_t>(out.triangles.size()) - 1);
   }
 }
@@ -190,18 +238,19 @@ void sample_patch(const FlattenedPatch& patch, std::span<const Eigen::Vector2d> 
     for (std::size_t k = 0; k < patch.triangles.size(); ++k) {
       const Corners& c = patch.corners[k];
       const double area2 = signed_area2(c);
-      // w_i: area of the sub-triangle opposite corner i, relative to the whole.
+      // w_i: area of the sub-triangle opposite corner i, relative to the whole (scaled by area2
+      // until the sample is known to be inside).
       std::array<double, 3> w{};
       bool inside = true;
       for (int i = 0; i < 3 && inside; ++i) {
-        w[i] = cross(c[(i + 2) % 3] - c[(i + 1) % 3], q - c[(i + 1) % 3]) / area2;
-        inside = w[i] >= -kTolerance;
+        w[i] = cross(c[(i + 2) % 3] - c[(i + 1) % 3], q - c[(i + 1) % 3]);
+        inside = w[i] >= -kTolerance * area2;
       }
       if (!inside) {
         continue;
       }
       for (double& weight : w) {
-        weight = std::clamp(weight, 0.0, 1.0);
+        weight = std::max(weight, 0.0);
       }
       const double sum = w[0] + w[1] + w[2];
       for (double& weight : w) {
