@@ -14,8 +14,8 @@
 
 namespace texsim {
 
-inline constexpr int kScanLanes = 16;   ///< candidates per chunk (one AVX-512 register of floats)
-inline constexpr int kScanQueries = 8;  ///< queries sharing each loaded chunk (register blocking)
+inline constexpr int kScanLanes = 16;  ///< candidates per chunk (one AVX-512 register of floats)
+inline constexpr int kScanQueries = 8; ///< queries sharing each loaded chunk (register blocking)
 inline constexpr float kScanNoBound = FLT_MAX;    ///< threshold without a bound: every lane hits
 inline constexpr float kScanNeverHits = -FLT_MAX; ///< threshold of an unused query slot
 
