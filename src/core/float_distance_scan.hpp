@@ -39,6 +39,9 @@ struct FloatDistanceScan {
 void scan_float_distances(const FloatDistanceScan& scan);
 /// The same with the penalties added to each distance.
 void scan_float_distances_masked(const FloatDistanceScan& scan);
+/// Scans for query slot 0 only (the others are ignored and get no distances): a lone query costs
+/// an eighth of a full block's arithmetic.
+void scan_float_distances_single(const FloatDistanceScan& scan);
 
 /// Bit i set where lanes[i] < threshold, for the kScanLanes lanes of a chunk.
 unsigned lanes_below(const float* lanes, float threshold);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
@@ -13,16 +15,14 @@ constexpr std::size_t kTileBytes = 128 * 1024; ///< lane blocks scanned per pass
 
 } // namespace
 
-/// Up to kScanQueries queries scanned together: their float copies, rounding radii, thresholds
-/// and best rows so far.
-struct ExhaustiveSearch::Block {
-  int count = 0;
-  const double* queries[kScanQueries] = {};
-  std::vector<float> query_floats;    ///< kScanQueries x dimension
-  double rounding[kScanQueries] = {}; ///< |q - float(q)|, rounded up
-  float thresholds[kScanQueries] = {};
-  std::int64_t best[kScanQueries] = {};
-  double best_distance[kScanQueries] = {};
+/// One query of a batch: its float copy, rounding radius, threshold and best row so far.
+struct ExhaustiveSearch::QueryState {
+  const double* query = nullptr;
+  std::vector<float> floats;
+  double rounding = 0.0; ///< |q - float(q)|, rounded up
+  float threshold = kScanNoBound;
+  std::int64_t best = -1;
+  double best_distance = 0.0;
 };
 
 ExhaustiveSearch::ExhaustiveSearch(NeighbourhoodTable table)
@@ -49,56 +49,51 @@ ExhaustiveSearch::ExhaustiveSearch(NeighbourhoodTable table)
   }
 }
 
-float ExhaustiveSearch::threshold(const Block& block, int slot) const {
-  if (block.best[slot] < 0)
-    return kScanNoBound;
-  const double radius =
-      std::sqrt(block.best_distance[slot]) * (1.0 + kappa_) + block.rounding[slot];
+float ExhaustiveSearch::threshold(const QueryState& state) const {
+  const double radius = std::sqrt(state.best_distance) * (1.0 + kappa_) + state.rounding;
   return float_bound_.threshold(radius * radius, true);
 }
 
-void ExhaustiveSearch::accept_hits(Block& block, std::int64_t chunk, const float* distances) const {
+void ExhaustiveSearch::accept_hits(QueryState& state, std::int64_t chunk,
+                                   const float* distances) const {
   const int d = dimension();
   const float* chunk_values = lane_blocks_.data() + chunk * d * kScanLanes;
-  for (int j = 0; j < block.count; ++j) {
-    const float* lanes = distances + j * kScanLanes;
-    for (unsigned below = lanes_below(lanes, block.thresholds[j]); below != 0; below &= below - 1) {
-      const int lane = __builtin_ctz(below);
-      if (!(lanes[lane] < block.thresholds[j])) // an earlier lane lowered the threshold
-        continue;
-      const std::int64_t row = chunk * kScanLanes + lane;
-      // The values from the lane block just scanned (in cache): same floats, same order as
-      // distance2.
-      const double exact = exact_distance2(chunk_values + lane, kScanLanes, block.queries[j], d);
-      if (block.best[j] < 0 || exact < block.best_distance[j] ||
-          (exact == block.best_distance[j] && row < block.best[j])) {
-        block.best[j] = row;
-        block.best_distance[j] = exact;
-        block.thresholds[j] = threshold(block, j);
-      }
+  for (unsigned below = lanes_below(distances, state.threshold); below != 0; below &= below - 1) {
+    const int lane = __builtin_ctz(below);
+    if (!(distances[lane] < state.threshold)) // an earlier lane lowered the threshold
+      continue;
+    const std::int64_t row = chunk * kScanLanes + lane;
+    // The values from the lane block just scanned (in cache): same floats, same order as
+    // distance2.
+    const double exact = exact_distance2(chunk_values + lane, kScanLanes, state.query, d);
+    if (state.best < 0 || exact < state.best_distance ||
+        (exact == state.best_distance && row < state.best)) {
+      state.best = row;
+      state.best_distance = exact;
+      state.threshold = threshold(state);
     }
   }
 }
 
-void ExhaustiveSearch::scan_block(Block& block, std::int64_t chunk_begin,
-                                  std::int64_t chunk_end) const {
+void ExhaustiveSearch::scan(QueryState& state, std::int64_t chunk_begin,
+                            std::int64_t chunk_end) const {
   struct HitContext {
     const ExhaustiveSearch* self;
-    Block* block;
-  } context{this, &block};
+    QueryState* state;
+  } context{this, &state};
   FloatDistanceScan scan;
   scan.lane_blocks = lane_blocks_.data();
   scan.chunk_begin = chunk_begin;
   scan.chunk_end = chunk_end;
   scan.channels = dimension();
-  scan.query_features = block.query_floats.data();
-  scan.thresholds = block.thresholds;
+  scan.query_features = state.floats.data();
+  scan.thresholds = &state.threshold;
   scan.on_hit = [](void* c, std::int64_t chunk, const float* distances) {
     auto* hit = static_cast<HitContext*>(c);
-    hit->self->accept_hits(*hit->block, chunk, distances);
+    hit->self->accept_hits(*hit->state, chunk, distances);
   };
   scan.context = &context;
-  scan_float_distances(scan);
+  scan_float_distances_single(scan);
 }
 
 void ExhaustiveSearch::nearest_batch(std::span<const double> queries,
@@ -108,42 +103,37 @@ void ExhaustiveSearch::nearest_batch(std::span<const double> queries,
   TEXSIM_VERIFY(queries.size() == rows.size() * static_cast<std::size_t>(d),
                 "neighbourhood search: " << queries.size() << " query values for " << count
                                          << " queries of " << d);
-  std::vector<Block> blocks(static_cast<std::size_t>((count + kScanQueries - 1) / kScanQueries));
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    Block& block = blocks[b];
-    block.count = static_cast<int>(
-        std::min<std::int64_t>(kScanQueries, count - static_cast<std::int64_t>(b) * kScanQueries));
-    block.query_floats.assign(static_cast<std::size_t>(kScanQueries) * d, 0.0f);
-    for (int j = 0; j < kScanQueries; ++j) {
-      block.thresholds[j] = kScanNeverHits;
-      block.best[j] = -1;
-      if (j >= block.count)
-        continue;
-      const auto query = queries.subspan((b * kScanQueries + j) * static_cast<std::size_t>(d),
-                                         static_cast<std::size_t>(d));
-      check_query(query);
-      double rounding = 0.0;
-      for (int c = 0; c < d; ++c) {
-        TEXSIM_VERIFY(std::abs(query[c]) <= safe_value_, "neighbourhood search: query value "
-                                                             << query[c] << " exceeds "
-                                                             << safe_value_);
-        const float f = static_cast<float>(query[c]);
-        block.query_floats[static_cast<std::size_t>(j) * d + c] = f;
-        const double error = query[c] - static_cast<double>(f); // exact in double
-        rounding += error * error;
-      }
-      block.queries[j] = query.data();
-      block.rounding[j] = std::sqrt(rounding) * (1.0 + kappa_);
-      block.thresholds[j] = kScanNoBound;
+  std::vector<QueryState> states(rows.size());
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const auto query =
+        queries.subspan(i * static_cast<std::size_t>(d), static_cast<std::size_t>(d));
+    check_query(query);
+    QueryState& state = states[i];
+    state.query = query.data();
+    state.floats.resize(static_cast<std::size_t>(d));
+    double rounding = 0.0;
+    for (int c = 0; c < d; ++c) {
+      TEXSIM_VERIFY(std::abs(query[c]) <= safe_value_,
+                    "neighbourhood search: query value " << query[c] << " exceeds " << safe_value_);
+      state.floats[c] = static_cast<float>(query[c]);
+      const double error = query[c] - static_cast<double>(state.floats[c]); // exact in double
+      rounding += error * error;
     }
+    state.rounding = std::sqrt(rounding) * (1.0 + kappa_);
   }
-  // Tiles of the table stay in cache while every block scans them.
-  for (std::int64_t tile = 0; tile < chunks_; tile += chunks_per_tile_)
-    for (Block& block : blocks)
-      scan_block(block, tile, std::min(chunks_, tile + chunks_per_tile_));
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (int j = 0; j < blocks[b].count; ++j)
-      rows[b * kScanQueries + j] = blocks[b].best[j];
+  // Threads take equal runs of queries; within a run, a tile of the table stays in cache while
+  // every query scans it. Each answer is its query's exact argmin, whatever the thread count.
+#pragma omp parallel if (count > 1)
+  {
+    const std::int64_t threads = omp_get_num_threads(), thread = omp_get_thread_num();
+    const std::int64_t first = count * thread / threads;
+    const std::int64_t last = count * (thread + 1) / threads;
+    for (std::int64_t tile = 0; tile < chunks_; tile += chunks_per_tile_)
+      for (std::int64_t i = first; i < last; ++i)
+        scan(states[static_cast<std::size_t>(i)], tile, std::min(chunks_, tile + chunks_per_tile_));
+  }
+  for (std::size_t i = 0; i < states.size(); ++i)
+    rows[i] = states[i].best;
 }
 
 std::int64_t ExhaustiveSearch::nearest(std::span<const double> query) const {

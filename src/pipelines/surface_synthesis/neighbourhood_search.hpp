@@ -47,7 +47,8 @@ public:
   virtual std::int64_t nearest(std::span<const double> query) const = 0;
   /// nearest() of each of rows.size() queries stored back to back in `queries` (rows.size() x
   /// dimension values). The same answers as one nearest() call per query; exhaustive scans the
-  /// table once per 8 queries, so batches are much faster there. Thread-safe.
+  /// table once per 8 queries, so batches are much faster there, and splits a batch over the
+  /// OpenMP threads. Thread-safe.
   virtual void nearest_batch(std::span<const double> queries, std::span<std::int64_t> rows) const;
   /// Squared distance from query to a row, computed exactly as the exhaustive search does: the
   /// sum over c in order of (double(value_c) - query_c)^2.
