@@ -6,6 +6,7 @@
 #include "pipelines/surface_synthesis/tsvq_tree.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -177,6 +178,51 @@ TEST(ExhaustiveSearch, EquidistantQueriesGoToTheLowerRow) {
       EXPECT_EQ(expected, std::min(a, b)) << "the tie between rows " << a << " and " << b;
     }
   }
+}
+
+TEST(ExhaustiveSearch, ExactWhereFloatRoundingOfTheQueryDecides) {
+  // Rows one float ulp apart and queries between them: float(query) often lands on a row, so only
+  // the scan's allowance for the query's rounding keeps the double argmin among the rows it
+  // re-checks.
+  for (const int dimension : {1, 3}) {
+    NeighbourhoodTable table{dimension, {}};
+    const int rows = 64;
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < dimension; ++c) {
+        float v = 1.0f + 0.25f * c;
+        for (int k = 0; k < (r * 37) % rows; ++k) // rows in shuffled order
+          v = std::nextafter(v, 2.0f);
+        table.values.push_back(v);
+      }
+    const auto search = make_neighbourhood_search(SearchMethod::exhaustive, table);
+    const auto pruned = make_neighbourhood_search(SearchMethod::pruned, table);
+    const CounterRng rng(61, 4);
+    const double ulp = std::ldexp(1.0, -23);
+    for (int i = 0; i < 2000; ++i) {
+      std::vector<double> query(dimension);
+      for (int c = 0; c < dimension; ++c)
+        query[c] = 1.0 + 0.25 * c + rng.uniform(-1.0, rows, static_cast<std::uint64_t>(i), c) * ulp;
+      const std::int64_t expected = brute_force(table, query);
+      ASSERT_EQ(search->nearest(query), expected) << "dimension " << dimension << " query " << i;
+      ASSERT_EQ(pruned->nearest(query), expected) << "dimension " << dimension << " query " << i;
+    }
+  }
+}
+
+TEST(ExhaustiveSearch, BatchAnswersDoNotDependOnThreads) {
+  const NeighbourhoodTable table = image_table(32);
+  const auto search = make_neighbourhood_search(SearchMethod::exhaustive, table);
+  const std::vector<double> queries = image_queries(table, 32, 301);
+  std::vector<std::int64_t> one(301), two(301);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  search->nearest_batch(queries, one);
+  omp_set_num_threads(2);
+  search->nearest_batch(queries, two);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one, two);
+  for (int i = 0; i < 301; i += 7)
+    EXPECT_EQ(one[i], brute_force(table, query_at(queries, 171, i)));
 }
 
 TEST(ExhaustiveSearch, DistanceIsTheDefinition) {
