@@ -1,105 +1,20 @@
 #include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
 
 #include "core/error.hpp"
-
-#include <emmintrin.h>
+#include "core/float_distance_scan.hpp"
 
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-constexpr int kLanes = 16;            ///< voxels per SIMD chunk (one AVX-512 register of floats)
-constexpr int kQueryBlock = 8;        ///< queries sharing each loaded chunk (register blocking)
+constexpr int kLanes = kScanLanes;
+constexpr int kQueryBlock = kScanQueries;
 constexpr int kMaxWitnesses = 63;     ///< k - 1 limit (the greedy witness picks live on the stack)
 constexpr std::size_t kMinBatch = 16; ///< offers collected before the shortlist is merged
 constexpr std::size_t kTileBytes = 128 * 1024; ///< lane blocks scanned per pass over the queries
-
-using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
-using Bits = std::int32_t __attribute__((vector_size(kLanes * sizeof(float))));
-using Words = std::uint64_t __attribute__((vector_size(kLanes * sizeof(float))));
-
-constexpr float kNoBound = FLT_MAX;    ///< threshold without witnesses: every voxel hits
-constexpr float kNeverHits = -FLT_MAX; ///< threshold of the unused query slots of a block
-
-/// Everything the SIMD scan of a run of chunks reads. A hit (some query has a lane below its
-/// threshold) hands the chunk's float distances to `on_hit`, which may lower the thresholds.
-struct ChunkScan {
-  const float* lane_blocks;
-  std::int64_t chunk_begin;
-  std::int64_t chunk_end;
-  int channels;
-  const float* query_features;         ///< kQueryBlock x channels
-  const float* thresholds;             ///< kQueryBlock, re-read after every hit
-  const float* penalties[kQueryBlock]; ///< masked scans only: per query and lane, +inf in windows
-  void (*on_hit)(void* context, std::int64_t chunk, const float* distances);
-  void* context;
-};
-
-/// Float squared distances of kQueryBlock queries to the 16 voxels of each chunk; `Masked` adds
-/// the window penalties (a masked scan covers exactly one row). Hits are rare: the common path is
-/// subtract, multiply-add and a sign test.
-template <bool Masked> [[gnu::always_inline]] inline void scan_chunks_body(const ChunkScan& s) {
-  const int d = s.channels;
-  const float* q = s.query_features;
-  for (std::int64_t chunk = s.chunk_begin; chunk < s.chunk_end; ++chunk) {
-    const float* lanes = s.lane_blocks + chunk * d * kLanes;
-    Floats x;
-    std::memcpy(&x, lanes, sizeof x);
-    Floats acc[kQueryBlock];
-#pragma GCC unroll 16
-    for (int j = 0; j < kQueryBlock; ++j) {
-      const Floats diff = x - q[j * d];
-      acc[j] = diff * diff;
-    }
-    for (int c = 1; c < d; ++c) {
-      std::memcpy(&x, lanes + c * kLanes, sizeof x);
-#pragma GCC unroll 16
-      for (int j = 0; j < kQueryBlock; ++j) {
-        const Floats diff = x - q[j * d + c];
-        acc[j] += diff * diff;
-      }
-    }
-    if constexpr (Masked) {
-#pragma GCC unroll 16
-      for (int j = 0; j < kQueryBlock; ++j) {
-        Floats penalty;
-        std::memcpy(&penalty, s.penalties[j] + (chunk - s.chunk_begin) * kLanes, sizeof penalty);
-        acc[j] += penalty;
-      }
-    }
-    // acc - threshold is negative exactly where acc < threshold (both finite or acc = +inf);
-    // or-ing the bit patterns keeps any sign bit. Generic vector code, no comparisons: GCC keeps
-    // this vectorised in every target clone.
-    Bits any = reinterpret_cast<Bits>(acc[0] - s.thresholds[0]);
-#pragma GCC unroll 16
-    for (int j = 1; j < kQueryBlock; ++j)
-      any |= reinterpret_cast<Bits>(acc[j] - s.thresholds[j]);
-    const Words words = reinterpret_cast<Words>(any);
-    std::uint64_t sign = 0;
-#pragma GCC unroll 8
-    for (int w = 0; w < kLanes / 2; ++w)
-      sign |= words[w];
-    if (sign & 0x8000000080000000ull) {
-      alignas(64) float distances[kQueryBlock * kLanes];
-      std::memcpy(distances, acc, sizeof distances);
-      s.on_hit(s.context, chunk, distances);
-    }
-  }
-}
-
-__attribute__((target_clones("avx512f", "avx2", "default"))) void scan_chunks(const ChunkScan& s) {
-  scan_chunks_body<false>(s);
-}
-
-__attribute__((target_clones("avx512f", "avx2", "default"))) void
-scan_chunks_masked(const ChunkScan& s) {
-  scan_chunks_body<true>(s);
-}
 
 /// The squared feature distance the similarity sets are defined by: the sum over channels of
 /// (double(a_c) - double(b_c))^2 in channel order. Channel c of a is a[c * a_stride].
@@ -110,23 +25,6 @@ double exact_distance(const float* a, std::ptrdiff_t a_stride, const float* b, i
     sum += diff * diff;
   }
   return sum;
-}
-
-/// Bit i set where lanes[i] < threshold, for the 16 lanes of a chunk (SSE2, part of x86-64).
-unsigned lanes_below(const float* lanes, float threshold) {
-  const __m128 limit = _mm_set1_ps(threshold);
-  unsigned mask = 0;
-  for (int group = 0; group < kLanes / 4; ++group)
-    mask |=
-        static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(lanes + 4 * group), limit)))
-        << (4 * group);
-  return mask;
-}
-
-/// Largest |feature| for which d * (2 max)^2 stays below FLT_MAX / 4: float distances never
-/// overflow and stay below kNoBound.
-float largest_safe_feature(int channels) {
-  return static_cast<float>(std::sqrt(static_cast<double>(FLT_MAX) / (16.0 * channels)));
 }
 
 } // namespace
@@ -157,20 +55,16 @@ struct NearestOutsideWindows::Block {
 NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
                                              const ExclusionWindows& windows, int witnesses)
     : features_(features), windows_(windows), witnesses_(witnesses), channels_(features.channels()),
-      chunks_per_row_((features.dims().nx + kLanes - 1) / kLanes) {
+      chunks_per_row_((features.dims().nx + kLanes - 1) / kLanes), float_bound_(channels_) {
   TEXSIM_VERIFY(witnesses_ >= 1 && witnesses_ <= kMaxWitnesses,
                 "similarity sets: shortlists need 2 <= k <= " << kMaxWitnesses + 1
                                                               << ", got k = " << witnesses_ + 1);
   TEXSIM_VERIFY(features.dims() == windows.dims, "similarity sets: window grid differs from the "
                                                  "feature grid");
-  const float safe = largest_safe_feature(channels_);
+  const float safe = float_bound_.largest_safe_value();
   for (const float f : features.data())
     TEXSIM_VERIFY(std::isfinite(f) && std::abs(f) <= safe,
                   "similarity sets: feature value " << f << " is not finite or exceeds " << safe);
-  // Float distance error: each difference rounds once, each square and sum at most twice, so
-  // |float - exact| <= (d + 3) 2^-24 exact + the subnormal spacing per operation; doubled for
-  // margin.
-  relative_error_ = 2.0 * (channels_ + 3) * std::ldexp(1.0, -24);
 
   const vol::Dims dims = features.dims();
   const std::size_t rows = static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(dims.nz);
@@ -188,27 +82,12 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
     }
 }
 
-float NearestOutsideWindows::threshold_for(double bound, bool strict) const {
-  // A voxel whose float distance is >= the threshold has exact distance > bound (>= bound if
-  // `strict` is false and bound = 0: the margin in relative_error_ makes every other case strict).
-  const double subnormal_slack = (channels_ + 1) * std::ldexp(1.0, -149);
-  if (bound == 0.0 && !strict)
-    return 0.0f;
-  const double limit = bound * (1.0 + relative_error_) + subnormal_slack;
-  if (!(limit < static_cast<double>(kNoBound)))
-    return kNoBound;
-  float threshold = static_cast<float>(limit);
-  if (static_cast<double>(threshold) <= limit)
-    threshold = std::nextafter(threshold, kNoBound);
-  return threshold;
-}
-
 float NearestOutsideWindows::threshold(const QueryState& query) const {
   // Shortlist witnesses were all scanned before any voxel still to come, which therefore has a
   // larger index: equal distance already puts it after them. Seed witnesses may come later in the
   // scan, so they drop only voxels strictly farther than all of them.
-  return std::min(threshold_for(query.bound.distance, false),
-                  threshold_for(query.seed_bound, true));
+  return std::min(float_bound_.threshold(query.bound.distance, false),
+                  float_bound_.threshold(query.seed_bound, true));
 }
 
 std::size_t NearestOutsideWindows::last_witness(const std::vector<RankedVoxel>& sorted) const {
@@ -325,7 +204,7 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
     const NearestOutsideWindows* self;
     Block* block;
   } context{this, &block};
-  ChunkScan scan{};
+  FloatDistanceScan scan{};
   scan.lane_blocks = lane_blocks_.data();
   scan.channels = channels_;
   scan.query_features = block.query_features.data();
@@ -346,7 +225,7 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
                                 : block.no_penalty.data();
       scan.chunk_begin = row * chunks_per_row_;
       scan.chunk_end = scan.chunk_begin + chunks_per_row_;
-      scan_chunks_masked(scan);
+      scan_float_distances_masked(scan);
       ++row;
       continue;
     }
@@ -354,7 +233,7 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
         next_masked != masked.end() ? std::min(*next_masked, row_end) : row_end;
     scan.chunk_begin = row * chunks_per_row_;
     scan.chunk_end = run_end * chunks_per_row_;
-    scan_chunks(scan);
+    scan_float_distances(scan);
     row = run_end;
   }
 }
@@ -379,7 +258,7 @@ std::vector<std::vector<RankedVoxel>> NearestOutsideWindows::shortlists(std::int
     block.penalties.assign(static_cast<std::size_t>(kQueryBlock) * chunks_per_row_ * kLanes, 0.0f);
     block.no_penalty.assign(static_cast<std::size_t>(chunks_per_row_) * kLanes, 0.0f);
     for (int j = 0; j < kQueryBlock; ++j) {
-      block.thresholds[j] = kNeverHits;
+      block.thresholds[j] = kScanNeverHits;
       if (j >= block.count)
         continue;
       QueryState& query = queries[b * kQueryBlock + j];

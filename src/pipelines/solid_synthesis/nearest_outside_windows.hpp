@@ -3,14 +3,16 @@
 /// still be one of p's k - 1 best matches outside the exclusion windows, found in one pass over all
 /// voxels with exact results.
 ///
-/// A fast pass compares float distances (register-blocked: 8 queries x 16 voxels, features stored
-/// in 16-voxel lane blocks, one SIMD clone per instruction set) against a per-query threshold; the
-/// few voxels under it get their exact double distance and enter a sorted shortlist. A voxel x can
-/// be dropped once the shortlist holds k - 1 voxels better than x (exact distance, then voxel
-/// index), outside p's window and pairwise more than 2 * half apart: no window holds two of them,
-/// so whichever k - 2 further windows the greedy selection opens, one of them stays better than x.
+/// A fast pass (core/float_distance_scan: register-blocked, 8 queries x 16 voxels, features stored
+/// in 16-voxel lane blocks, one SIMD clone per instruction set) compares float distances against
+/// a per-query threshold; the few voxels under it get their exact double distance and enter a
+/// sorted shortlist. A voxel x can be dropped once the shortlist holds k - 1 voxels better than x
+/// (exact distance, then voxel index), outside p's window and pairwise more than 2 * half apart:
+/// no window holds two of them, so whichever k - 2 further windows the greedy selection opens, one
+/// of them stays better than x.
 /// The threshold carries a bound on the float rounding, so a voxel the fast pass skips is always
 /// provably droppable.
+#include "core/float_distance_scan.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <array>
@@ -89,7 +91,6 @@ private:
   void merge_pending(QueryState& query) const;
   std::size_t last_witness(const std::vector<RankedVoxel>& sorted) const;
   float threshold(const QueryState& query) const;
-  float threshold_for(double bound, bool strict) const;
 
   const vol::ChannelGrid& features_;
   ExclusionWindows windows_;
@@ -97,7 +98,7 @@ private:
   int channels_;
   int chunks_per_row_;
   int rows_per_tile_;
-  double relative_error_;
+  FloatDistanceBound float_bound_;
   std::vector<float> lane_blocks_; ///< per 16-voxel chunk of a row: channel-major, 16 lanes each
 };
 

@@ -1,0 +1,68 @@
+#pragma once
+/// The certified float scan shared by the exact nearest-neighbour searches (solid_synthesis'
+/// similarity sets, surface_synthesis' exhaustive search): float squared distances of a block of
+/// kScanQueries queries to candidates stored 16 to a chunk, compared against one float threshold
+/// per query. A chunk where some query has a lane below its threshold is handed to a callback,
+/// which computes exact (double) distances and may lower the thresholds. FloatDistanceBound turns
+/// a bound on the exact distance into a threshold that the float distance of every candidate
+/// within the bound stays below, so a candidate the scan skips is provably farther.
+///
+/// Layout ("lane blocks"): chunk i holds candidates 16 i .. 16 i + 15, channel-major: channel c
+/// of lane l at [c * kScanLanes + l]. Padding lanes hold +inf and never hit.
+#include <cfloat>
+#include <cstdint>
+
+namespace texsim {
+
+inline constexpr int kScanLanes = 16;  ///< candidates per chunk (one AVX-512 register of floats)
+inline constexpr int kScanQueries = 8; ///< queries sharing each loaded chunk (register blocking)
+inline constexpr float kScanNoBound = FLT_MAX;    ///< threshold without a bound: every lane hits
+inline constexpr float kScanNeverHits = -FLT_MAX; ///< threshold of an unused query slot
+
+/// Everything a scan of a run of chunks reads. `on_hit` gets the chunk's float distances
+/// (kScanQueries x kScanLanes, query-major) and may lower `thresholds`, which are re-read.
+struct FloatDistanceScan {
+  const float* lane_blocks = nullptr;
+  std::int64_t chunk_begin = 0;
+  std::int64_t chunk_end = 0;
+  int channels = 0;
+  const float* query_features = nullptr; ///< kScanQueries x channels
+  const float* thresholds = nullptr;     ///< kScanQueries
+  /// Masked scans only: per query, kScanLanes x (chunk_end - chunk_begin) additive penalties
+  /// (+inf excludes a lane).
+  const float* penalties[kScanQueries] = {};
+  void (*on_hit)(void* context, std::int64_t chunk, const float* distances) = nullptr;
+  void* context = nullptr;
+};
+
+/// Scans [chunk_begin, chunk_end) (one SIMD clone per instruction set).
+void scan_float_distances(const FloatDistanceScan& scan);
+/// The same with the penalties added to each distance.
+void scan_float_distances_masked(const FloatDistanceScan& scan);
+/// Scans for query slot 0 only (the others are ignored and get no distances): a lone query costs
+/// an eighth of a full block's arithmetic.
+void scan_float_distances_single(const FloatDistanceScan& scan);
+
+/// Bit i set where lanes[i] < threshold, for the kScanLanes lanes of a chunk.
+unsigned lanes_below(const float* lanes, float threshold);
+
+/// Rounding bounds of float squared distances over `channels` channels.
+class FloatDistanceBound {
+public:
+  explicit FloatDistanceBound(int channels);
+
+  /// Largest |value| for which channels * (2 max)^2 stays below FLT_MAX / 4: float distances
+  /// never overflow and stay below kScanNoBound.
+  float largest_safe_value() const;
+
+  /// A float threshold such that a candidate whose float distance (computed by the scan from the
+  /// same float values) is >= the threshold has exact distance > bound (>= bound if `strict` is
+  /// false and bound = 0: the margin makes every other case strict). kScanNoBound if unbounded.
+  float threshold(double bound, bool strict) const;
+
+private:
+  int channels_;
+  double relative_error_;
+};
+
+} // namespace texsim
