@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 namespace texsim::geom {
 
@@ -27,6 +28,12 @@ public:
 
   /// The point of the surface nearest to `query`.
   ClosestPoint closest_point(const Vec3& query) const;
+
+  /// Where the line origin + t * direction (t of either sign) meets the surface nearest to
+  /// `origin`: smallest |t|, ties to the smaller triangle id; `distance` is |t| |direction|.
+  /// Triangles parallel to the line are not hit. std::nullopt when the line misses. How Wei-Levoy
+  /// find a vertex's parent face on a coarser mesh (the line along +-n).
+  std::optional<ClosestPoint> nearest_line_hit(const Vec3& origin, const Vec3& direction) const;
 
 private:
   struct Impl;

@@ -25,6 +25,11 @@ struct VoronoiPiece {
   std::vector<std::pair<std::int32_t, double>> borders;
   std::vector<Vec3>
       polygon; ///< the clipped convex polygon's vertices in order (only when keep_polygons)
+  /// Parallel to `polygon` (only when keep_polygons): what made the edge polygon[k] ->
+  /// polygon[k + 1 mod n]: the index of the other seed whose bisector it lies on, or -1 for a part
+  /// of the triangle's boundary. A vertex between two bisector edges a, b is a Voronoi vertex of
+  /// (seed, a, b), counter-clockwise in that order seen from outside.
+  std::vector<std::int32_t> edge_labels;
 };
 
 /// The pieces of every triangle in `triangles`: each triangle split exactly into the parts closest

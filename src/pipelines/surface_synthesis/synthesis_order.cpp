@@ -67,7 +67,7 @@ SynthesisOrder synthesis_order(const par::Comm& comm, const LevelStencils& stenc
     const auto graph = conflict_graph(comm, stencils, vertices);
     // Priority order: a random permutation keyed by (seed, level, pass), ties by id.
     const CounterRng rng(seed, kOrderStream);
-    std::vector<std::pair<std::uint64_t, std::int64_t>> ranked(std::size_t(vertices));
+    std::vector<std::pair<std::uint64_t, std::int64_t>> ranked(static_cast<std::size_t>(vertices));
     for (std::int64_t v = 0; v < vertices; ++v) {
       const auto bits = rng.bits(std::uint64_t(v), std::uint32_t(level), std::uint32_t(pass));
       ranked[std::size_t(v)] = {(std::uint64_t(bits[0]) << 32) | bits[1], v};
