@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,15 +23,15 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-/// The icosphere without the triangles below z = -0.3: a cap with one boundary loop.
-TriangleMesh open_sphere(int level) {
+/// The icosphere without the triangles below z = `cut`: a cap with one boundary loop.
+TriangleMesh open_sphere(int level, double cut = -0.3) {
   const TriangleMesh sphere = icosphere(level);
   TriangleMesh open;
   std::vector<std::int32_t> new_id(sphere.positions.size(), -1);
   for (auto tri : sphere.triangles) {
     const double z =
         (sphere.positions[tri[0]] + sphere.positions[tri[1]] + sphere.positions[tri[2]]).z() / 3;
-    if (z <= -0.3) {
+    if (z <= cut) {
       continue;
     }
     for (auto& v : tri) {
@@ -245,6 +246,44 @@ TEST(TextureAtlas, TorusAndOpenSurfaceArePackedWithoutOverlap) {
     const AtlasCheck check = check_atlas(mesh, atlas, true);
     EXPECT_GT(check.min_density_ratio, 0.5);
     EXPECT_LT(check.max_density_ratio, 2.0);
+  }
+}
+
+TEST(TextureAtlas, ChartsLscmFlattensBadlyAreSplitAndRetried) {
+  // Without limits the whole cap (down to 154 degrees from its pole) is one disk chart, which
+  // LSCM cannot flatten within 4 times the mean density everywhere.
+  const TriangleMesh cap = open_sphere(3, -0.9);
+  ASSERT_EQ(segment_charts(cap, {100000, 180.0}).chart_count, 1);
+  const TextureAtlas atlas = build_texture_atlas(cap, {256, 1, 100000, 180.0});
+  EXPECT_GT(atlas.chart_count, 1);
+  const AtlasCheck check = check_atlas(cap, atlas, true);
+  EXPECT_GE(check.min_density_ratio, 0.25);
+  EXPECT_LE(check.max_density_ratio, 4.0);
+}
+
+TEST(TextureAtlas, SameAtlasAndTexelsForAnyThreadCount) {
+  const TriangleMesh ring = torus(1.0, 0.4, 48, 24);
+  const AtlasSettings settings{256, 2, 200, 45.0};
+  omp_set_num_threads(1);
+  const TextureAtlas serial = build_texture_atlas(ring, settings);
+  const auto serial_texels = atlas_texels(ring, serial);
+  omp_set_num_threads(3);
+  const TextureAtlas threaded = build_texture_atlas(ring, settings);
+  const auto threaded_texels = atlas_texels(ring, threaded);
+  omp_set_num_threads(1);
+  EXPECT_EQ(threaded.chart_of_triangle, serial.chart_of_triangle);
+  EXPECT_EQ(threaded.texels_per_unit, serial.texels_per_unit);
+  for (std::size_t t = 0; t < ring.triangles.size(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(threaded.corner_uv[t][i], serial.corner_uv[t][i]);
+    }
+  }
+  ASSERT_EQ(threaded_texels.size(), serial_texels.size());
+  for (std::size_t i = 0; i < serial_texels.size(); ++i) {
+    EXPECT_EQ(std::tie(threaded_texels[i].x, threaded_texels[i].y, threaded_texels[i].triangle,
+                       threaded_texels[i].weights),
+              std::tie(serial_texels[i].x, serial_texels[i].y, serial_texels[i].triangle,
+                       serial_texels[i].weights));
   }
 }
 
