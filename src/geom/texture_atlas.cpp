@@ -111,7 +111,8 @@ bool boundary_pinches(const MeshTopology& topology, const std::vector<Vec2>& uv,
 constexpr double kMaxAreaDistortion = 4.0;
 
 /// LSCM of the chart scaled to the surface's area, or nothing when LSCM fails or its map is not
-/// usable (flipped, degenerate or overlapping triangles).
+/// usable (a triangle's density off by more than kMaxAreaDistortion, flipped and degenerate ones
+/// included, or a boundary that crosses or nearly touches itself).
 std::optional<FlatChart> flatten(const TriangleMesh& mesh, std::vector<std::int32_t> triangles) {
   FlatChart chart;
   chart.triangles = std::move(triangles);
