@@ -8,11 +8,19 @@ Submesh extract_part(const TriangleMesh& mesh, const std::vector<int>& triangle_
   TEXSIM_VERIFY(triangle_part.size() == mesh.triangles.size(),
                 "extract_part: " << triangle_part.size() << " part ids for "
                                  << mesh.triangles.size() << " triangles");
+  std::vector<std::int32_t> chosen;
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    if (triangle_part[t] == part)
+      chosen.push_back(t);
+  }
+  return extract_triangles(mesh, chosen);
+}
+
+Submesh extract_triangles(const TriangleMesh& mesh, std::span<const std::int32_t> triangles) {
   Submesh sub;
   std::vector<std::int32_t> local_of(mesh.positions.size(), -1);
-  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    if (triangle_part[t] != part)
-      continue;
+  for (const std::int32_t t : triangles) {
+    TEXSIM_ASSERT(t >= 0 && t < mesh.num_triangles(), "extract_triangles: triangle " << t);
     Triangle local{};
     for (int corner = 0; corner < 3; ++corner) {
       const std::int32_t v = mesh.triangles[t][corner];

@@ -4,6 +4,7 @@
 #include "geom/triangle_mesh.hpp"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::geom {
@@ -16,5 +17,8 @@ struct Submesh {
 
 /// The triangles t with triangle_part[t] == part, in increasing id order. Serial.
 Submesh extract_part(const TriangleMesh& mesh, const std::vector<int>& triangle_part, int part);
+
+/// The listed triangles of `mesh`, in the order given (ids in range). Serial.
+Submesh extract_triangles(const TriangleMesh& mesh, std::span<const std::int32_t> triangles);
 
 } // namespace texsim::geom
