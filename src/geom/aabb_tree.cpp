@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <Eigen/Geometry>
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>

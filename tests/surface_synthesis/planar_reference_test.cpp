@@ -2,7 +2,9 @@
 // (given, not retiled; level k has spacing 2^k h, so d_k = sqrt(2 A_k) is the grid spacing and
 // every current-level sample lands on a vertex), frames aligned with the grid, must pick for every
 // vertex the same exemplar pixel as a plain 2D implementation written here: same order (the
-// pipeline's classes), same template, the coarser level read at (x, y) / 2.
+// pipeline's classes), same template, the coarser level read at (x, y) / 2. The exemplar is
+// random and large enough (32 x 32, 4 x 4 at the top) that no two of its neighbourhoods are equal:
+// an exact tie in the exemplar would be broken by round-off in the mesh weights.
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
@@ -15,6 +17,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -131,10 +134,33 @@ public:
 
   /// Exhaustive search over the toroidal exemplar, ties to the lower pixel.
   int best_pixel(int k, Pass pass, const std::vector<double>& query) const {
-    const auto layout = layout_of(k);
-    const auto& image = exemplar_[std::size_t(k)];
+    const auto& candidates = candidates_of(k, pass);
     double best = std::numeric_limits<double>::infinity();
     int best_pixel = -1;
+    for (std::size_t p = 0; p < candidates.size(); ++p) {
+      double d = 0;
+      for (std::size_t i = 0; i < query.size(); ++i)
+        d += (query[i] - candidates[p][i]) * (query[i] - candidates[p][i]);
+      if (d < best) {
+        best = d;
+        best_pixel = int(p);
+      }
+    }
+    return best_pixel;
+  }
+
+private:
+  NeighbourhoodTemplate layout_of(int k) const {
+    return NeighbourhoodTemplate::from_shape(shapes_[std::size_t(k)],
+                                             std::size_t(k) + 1 < exemplar_.size());
+  }
+  /// Every exemplar pixel's neighbourhood at level k in `pass`, in pixel order (computed once).
+  const std::vector<std::vector<double>>& candidates_of(int k, Pass pass) const {
+    auto& cached = candidates_[{k, int(pass)}];
+    if (!cached.empty())
+      return cached;
+    const auto layout = layout_of(k);
+    const auto& image = exemplar_[std::size_t(k)];
     for (int y = 0; y < image.height(); ++y)
       for (int x = 0; x < image.width(); ++x) {
         std::vector<double> candidate;
@@ -148,24 +174,14 @@ public:
                 return to_double(exemplar_[std::size_t(k) + 1].periodic(i, j));
               },
               0.5 * x + o.x(), 0.5 * y + o.y()));
-        double d = 0;
-        for (std::size_t i = 0; i < query.size(); ++i)
-          d += (query[i] - candidate[i]) * (query[i] - candidate[i]);
-        if (d < best) {
-          best = d;
-          best_pixel = y * image.width() + x;
-        }
+        cached.push_back(std::move(candidate));
       }
-    return best_pixel;
+    return cached;
   }
 
-private:
-  NeighbourhoodTemplate layout_of(int k) const {
-    return NeighbourhoodTemplate::from_shape(shapes_[std::size_t(k)],
-                                             std::size_t(k) + 1 < exemplar_.size());
-  }
   const std::vector<img::RgbImage>& exemplar_;
   std::vector<NeighbourhoodShape> shapes_;
+  mutable std::map<std::pair<int, int>, std::vector<std::vector<double>>> candidates_;
 };
 
 void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> shapes) {
@@ -179,7 +195,7 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
   }
   std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<geom::Vec3>> directions;
-  std::vector<std::vector<ParentFace>> parents(std::size_t(levels));
+  std::vector<std::vector<ParentFace>> parents(static_cast<std::size_t>(levels));
   for (int k = 0; k < levels; ++k) {
     topologies.emplace_back(pyramid[std::size_t(k)].mesh);
     directions.emplace_back(pyramid[std::size_t(k)].mesh.positions.size(), geom::Vec3(1, 0, 0));
@@ -190,13 +206,13 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
                             pyramid[std::size_t(k) + 1].mesh, tree);
     }
   }
-  const auto exemplar = exemplar_pyramid(random_exemplar(16), levels, ExemplarBorder::toroidal);
+  const auto exemplar = exemplar_pyramid(random_exemplar(32), levels, ExemplarBorder::toroidal);
   PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
   input.shapes = shapes;
   input.seed = 9;
 
   // The pipeline, recording the classes of each pass.
-  std::vector<std::vector<std::int32_t>> pass2_classes(std::size_t(levels));
+  std::vector<std::vector<std::int32_t>> pass2_classes(static_cast<std::size_t>(levels));
   for (int k = 0; k < levels; ++k) {
     const auto layout =
         NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
@@ -205,7 +221,8 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
         k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr,
         k + 1 < levels ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)],
         layout, 0, pyramid[std::size_t(k)].mesh.num_vertices());
-    EXPECT_EQ(stencils.uncovered() > 0, true) << "the grid's border leaves samples uncovered";
+    if (k == 0)
+      EXPECT_GT(stencils.uncovered(), 0) << "the grid's border leaves samples uncovered";
     pass2_classes[std::size_t(k)] =
         synthesis_order(self, stencils, pyramid[std::size_t(k)].mesh.num_vertices(), input.seed,
                         k, Pass::refine)

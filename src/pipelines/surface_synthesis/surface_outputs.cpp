@@ -112,8 +112,14 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
       atlas_settings.gutter = settings.atlas.gutter;
       const auto atlas = geom::build_texture_atlas(surface, atlas_settings);
       img::write_png(output_dir / "atlas.png", fill_atlas(surface, atlas, on_surface));
-      io::write_textured_obj(output_dir / "textured.obj", surface_obj_view(surface, atlas),
-                             "atlas.png");
+      std::vector<std::int32_t> corners;
+      std::vector<double> uv;
+      for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+        corners.insert(corners.end(), surface.triangles[t].begin(), surface.triangles[t].end());
+        for (const auto& c : atlas.corner_uv[t])
+          uv.insert(uv.end(), {c.x(), c.y()});
+      }
+      io::write_textured_obj(output_dir / "textured.obj", {xyz, corners, uv, {}});
     });
     outputs.files.push_back(output_dir / "atlas.png");
     outputs.files.push_back(output_dir / "textured.obj");

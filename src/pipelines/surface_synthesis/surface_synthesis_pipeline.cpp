@@ -132,8 +132,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   }
 
   // Parent faces (level k on level k + 1) and orientation, coarse to fine.
-  std::vector<std::vector<ParentFace>> parents(std::size_t(levels));
-  std::vector<std::vector<geom::Vec3>> directions(std::size_t(levels));
+  std::vector<std::vector<ParentFace>> parents(static_cast<std::size_t>(levels));
+  std::vector<std::vector<geom::Vec3>> directions(static_cast<std::size_t>(levels));
   {
     auto stage = ctx.timers.scope("orientation");
     const auto& orientation = settings_.orientation;
