@@ -58,7 +58,8 @@ std::vector<ParentFace> closest_parent_faces(const Level& fine, const Level& coa
     const double area = normal.squaredNorm();
     const double wa = (c - b).cross(hit.point - b).dot(normal) / area;
     const double wb = (a - c).cross(hit.point - c).dot(normal) / area;
-    parents[v] = {{t[0], t[1], t[2]}, {wa, wb, 1.0 - wa - wb}};
+    parents[v].vertices = {t[0], t[1], t[2]};
+    parents[v].weights = {wa, wb, 1.0 - wa - wb};
   }
   return parents;
 }

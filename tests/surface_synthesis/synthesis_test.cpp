@@ -73,7 +73,7 @@ std::vector<img::RgbImage> lattice(int levels) {
   ExemplarSettings settings;
   settings.procedural = ProceduralExemplar::lattice;
   settings.size = 32;
-  settings.periods = 4;
+  settings.periods = 1;
   return exemplar_pyramid(load_exemplar(settings, 2), levels, ExemplarBorder::toroidal);
 }
 
@@ -148,7 +148,7 @@ TEST(Synthesis, RelaxedOrientationBeatsRandomOnStripes) {
   const par::Comm comm = par::world();
   ExemplarSettings settings;
   settings.procedural = ProceduralExemplar::stripes;
-  settings.size = 32;
+  settings.size = 64; // 4 stripes: 16 pixels a period, 4 on the coarsest level
   settings.periods = 4;
   const auto stripes = exemplar_pyramid(load_exemplar(settings, 1), 3, ExemplarBorder::toroidal);
   auto levels = sphere_pyramid(comm, 4096);

@@ -195,11 +195,17 @@ double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
     const NeighbourhoodSearch& exact = data->exact ? *data->exact : *data->search;
     const auto& table = exact.table();
     std::vector<double> q;
+    const auto covered = [](std::span<const SampleWeights> samples) {
+      return std::all_of(samples.begin(), samples.end(),
+                         [](const SampleWeights& s) { return s.covered(); });
+    };
     for (std::int64_t local = 0; local < stencils_.owned; ++local) {
+      if (!covered(stencils_.current_of(local)) || !covered(stencils_.coarser_of(local)))
+        continue; // samples standing in with the exemplar mean are not texture
       query(*data, local, current, coarser, q);
       sums[0] += std::sqrt(exact.distance2(exact.nearest(q), q));
+      sums[1] += 1;
     }
-    sums[1] = double(stencils_.owned);
     // Spread of the exemplar neighbourhoods: RMS distance to their mean (same on every rank).
     const std::int64_t rows = table.rows();
     std::vector<double> mean(std::size_t(table.dimension), 0.0);
@@ -213,7 +219,7 @@ double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
       spread2 += exact.distance2(r, mean);
     const double spread = std::sqrt(spread2 / double(rows));
     MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_.raw);
-    return spread > 0 ? sums[0] / sums[1] / spread : 0.0;
+    return spread > 0 && sums[1] > 0 ? sums[0] / sums[1] / spread : 0.0;
   }
   return 0.0;
 }

@@ -48,7 +48,9 @@ public:
 
   /// Mean distance from each vertex's full (pass 2) neighbourhood to the nearest exemplar
   /// neighbourhood, exact, divided by the spread of the exemplar neighbourhoods (RMS distance to
-  /// their mean): 0 when every neighbourhood occurs in the exemplar. Collective.
+  /// their mean): 0 when every neighbourhood occurs in the exemplar. Vertices with uncovered
+  /// samples (boundaries, folds) are left out: their mean-filled samples are not texture, and
+  /// their share is reported as the uncovered fraction. Collective.
   double neighbourhood_error(const LevelColours& current, const LevelColours* coarser) const;
 
   /// Bytes of the exemplar tables and search structures on this rank.
