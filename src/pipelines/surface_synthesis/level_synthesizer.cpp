@@ -224,6 +224,20 @@ double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
   return 0.0;
 }
 
+void LevelSynthesizer::neighbourhood(Pass pass, std::int64_t local, const LevelColours& current,
+                                     const LevelColours* coarser,
+                                     std::vector<double>& out) const {
+  const PassData* data = passes_[pass == Pass::extrapolate ? 0 : 1].get();
+  TEXSIM_VERIFY(data, "neighbourhood of a pass that reads nothing");
+  query(*data, local, current, coarser, out);
+}
+
+const NeighbourhoodSearch& LevelSynthesizer::search(Pass pass) const {
+  const PassData* data = passes_[pass == Pass::extrapolate ? 0 : 1].get();
+  TEXSIM_VERIFY(data, "search of a pass that reads nothing");
+  return *data->search;
+}
+
 std::size_t LevelSynthesizer::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& data : passes_)

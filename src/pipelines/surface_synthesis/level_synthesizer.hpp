@@ -53,6 +53,12 @@ public:
   /// their share is reported as the uncovered fraction. Collective.
   double neighbourhood_error(const LevelColours& current, const LevelColours* coarser) const;
 
+  /// The neighbourhood of owned vertex `local` as `pass` reads it (samples x RGB), and the search
+  /// it goes to: for benchmarks comparing searches on real queries.
+  void neighbourhood(Pass pass, std::int64_t local, const LevelColours& current,
+                     const LevelColours* coarser, std::vector<double>& out) const;
+  const NeighbourhoodSearch& search(Pass pass) const;
+
   /// Bytes of the exemplar tables and search structures on this rank.
   std::size_t memory_bytes() const;
 

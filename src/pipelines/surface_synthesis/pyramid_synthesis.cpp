@@ -86,7 +86,7 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
     }
     report.search_bytes = std::max(report.search_bytes, synthesizer->memory_bytes());
     const LevelColours* coarser = has_coarser ? &colours[K + 1] : nullptr;
-    if (k == 0 && !resume)
+    if (k == 0 && !resume && input.measure_quality)
       report.random_start_error = synthesizer->neighbourhood_error(colours[0], coarser);
     PyramidSynthesisReport::Level level_report;
     level_report.level = k;
@@ -117,7 +117,7 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
     level_report.uncovered_fraction = counts[1] > 0 ? double(counts[0]) / double(counts[1]) : 0;
     report.levels.push_back(level_report);
-    if (k == 0)
+    if (k == 0 && input.measure_quality)
       report.neighbourhood_error = synthesizer->neighbourhood_error(colours[0], coarser);
   }
   return report;

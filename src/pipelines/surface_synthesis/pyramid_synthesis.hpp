@@ -29,6 +29,9 @@ struct PyramidSynthesisInput {
   SearchMethod method = SearchMethod::exhaustive;
   ExemplarBorder border = ExemplarBorder::toroidal;
   std::uint64_t seed = 1;
+  /// Measure the neighbourhood error of the random start and of the result (exact searches over
+  /// the finest level: benchmarks leave them out of synthesis times).
+  bool measure_quality = true;
 };
 
 struct PyramidSynthesisHooks {
