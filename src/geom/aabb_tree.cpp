@@ -75,7 +75,7 @@ ClosestPoint AabbTree::closest_point(const Vec3& query) const {
 }
 
 std::optional<ClosestPoint> AabbTree::nearest_line_hit(const Vec3& origin,
-                                                      const Vec3& direction) const {
+                                                       const Vec3& direction) const {
   const Kernel::Line_3 line(to_cgal(origin), to_cgal(origin + direction));
   std::vector<Tree::Primitive_id> hits;
   impl_->tree.all_intersected_primitives(line, std::back_inserter(hits));

@@ -18,7 +18,8 @@ std::vector<double> histogram(std::span<const float> values, int channels, std::
     std::size_t bin = 0;
     for (int c = 0; c < channels; ++c) {
       const float value = values[e * std::size_t(channels) + std::size_t(c)];
-      const int level = std::min(kBins - 1, static_cast<int>(std::clamp(value, 0.0f, 1.0f) * kBins));
+      const int level =
+          std::min(kBins - 1, static_cast<int>(std::clamp(value, 0.0f, 1.0f) * kBins));
       bin = bin * kBins + std::size_t(level);
     }
     frequency[bin] += 1.0;
@@ -32,8 +33,7 @@ std::vector<double> histogram(std::span<const float> values, int channels, std::
 
 double histogram_distance(std::span<const float> a, std::span<const float> b, int channels) {
   TEXSIM_VERIFY(channels >= 1 && channels <= 4 && !a.empty() && !b.empty() &&
-                    a.size() % std::size_t(channels) == 0 &&
-                    b.size() % std::size_t(channels) == 0,
+                    a.size() % std::size_t(channels) == 0 && b.size() % std::size_t(channels) == 0,
                 "histogram_distance needs 1 to 4 channels and whole, non-empty element lists, got "
                     << channels << " channels, " << a.size() << " and " << b.size() << " values");
   std::size_t bins = 1;

@@ -58,7 +58,9 @@ struct Rgbd {
   double v[3] = {0, 0, 0};
 };
 
-Rgbd to_double(const img::Rgb& c) { return {{c.r, c.g, c.b}}; }
+Rgbd to_double(const img::Rgb& c) {
+  return {{c.r, c.g, c.b}};
+}
 
 Rgbd image_mean(const img::RgbImage& image) {
   Rgbd mean;
@@ -171,9 +173,7 @@ private:
             push(to_double(image.periodic(x + int(o.x()), y + int(o.y()))));
         for (const auto& o : layout.coarser)
           push(piecewise_linear(
-              [&](int i, int j) {
-                return to_double(exemplar_[std::size_t(k) + 1].periodic(i, j));
-              },
+              [&](int i, int j) { return to_double(exemplar_[std::size_t(k) + 1].periodic(i, j)); },
               0.5 * x + o.x(), 0.5 * y + o.y()));
         cached.push_back(std::move(candidate));
       }
@@ -224,18 +224,17 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
   // The pipeline, recording the classes of each pass.
   std::vector<std::vector<std::int32_t>> pass2_classes(static_cast<std::size_t>(levels));
   for (int k = 0; k < levels; ++k) {
-    const auto layout =
-        NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
+    const auto layout = NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
     const auto stencils = build_level_stencils(
         pyramid[std::size_t(k)], topologies[std::size_t(k)], directions[std::size_t(k)],
         k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr,
-        k + 1 < levels ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)],
-        layout, 0, pyramid[std::size_t(k)].mesh.num_vertices());
+        k + 1 < levels ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout,
+        0, pyramid[std::size_t(k)].mesh.num_vertices());
     if (k == 0)
       EXPECT_GT(stencils.uncovered(), 0) << "the grid's border leaves samples uncovered";
     pass2_classes[std::size_t(k)] =
-        synthesis_order(self, stencils, pyramid[std::size_t(k)].mesh.num_vertices(), input.seed,
-                        k, Pass::refine)
+        synthesis_order(self, stencils, pyramid[std::size_t(k)].mesh.num_vertices(), input.seed, k,
+                        Pass::refine)
             .class_of;
   }
   auto colours = random_start(pyramid, exemplar, input.seed);

@@ -99,12 +99,11 @@ TEST(Synthesis, NoClassMemberReadsAnother) {
   const auto& level = prepared.pyramid[0];
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-  const auto stencils = build_level_stencils(
-      level, prepared.topologies[0], prepared.directions[0], &prepared.pyramid[1],
-      &prepared.topologies[1], prepared.parents[0],
-      NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
-  const auto order =
-      synthesis_order(comm, stencils, level.mesh.num_vertices(), 3, 0, Pass::refine);
+  const auto stencils =
+      build_level_stencils(level, prepared.topologies[0], prepared.directions[0],
+                           &prepared.pyramid[1], &prepared.topologies[1], prepared.parents[0],
+                           NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
+  const auto order = synthesis_order(comm, stencils, level.mesh.num_vertices(), 3, 0, Pass::refine);
   EXPECT_GT(order.classes, 1);
   std::int64_t reads = 0;
   for (std::int64_t local = 0; local < owned; ++local)

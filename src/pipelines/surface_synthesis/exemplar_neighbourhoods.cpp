@@ -25,8 +25,8 @@ img::Rgb interpolate_pixels(const img::RgbImage& image, double x, double y, bool
   const auto pixel = [&](int dx, int dy) {
     return periodic ? image.periodic(x0 + dx, y0 + dy) : image.at(x0 + dx, y0 + dy);
   };
-  const auto mix = [](const img::Rgb& a, double wa, const img::Rgb& b, double wb,
-                      const img::Rgb& c, double wc) {
+  const auto mix = [](const img::Rgb& a, double wa, const img::Rgb& b, double wb, const img::Rgb& c,
+                      double wc) {
     img::Rgb out;
     for (int ch = 0; ch < 3; ++ch)
       out[ch] = float(wa * a[ch] + wb * b[ch] + wc * c[ch]);
@@ -49,9 +49,9 @@ img::Rgb mean_colour(const img::RgbImage& image) {
   return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
 }
 
-ExemplarNeighbourhoods exemplar_neighbourhoods(const std::vector<img::RgbImage>& pyramid,
-                                               int level, const NeighbourhoodTemplate& layout,
-                                               Pass pass, ExemplarBorder border) {
+ExemplarNeighbourhoods exemplar_neighbourhoods(const std::vector<img::RgbImage>& pyramid, int level,
+                                               const NeighbourhoodTemplate& layout, Pass pass,
+                                               ExemplarBorder border) {
   const img::RgbImage& image = pyramid[std::size_t(level)];
   const bool periodic = border == ExemplarBorder::toroidal;
   const bool read_current = pass == Pass::refine;
@@ -85,13 +85,14 @@ ExemplarNeighbourhoods exemplar_neighbourhoods(const std::vector<img::RgbImage>&
           push(periodic ? image.periodic(px, py) : image.at(px, py));
         }
       for (const auto& o : layout.coarser)
-        push(interpolate_pixels(pyramid[std::size_t(level) + 1], 0.5 * x + o.x(),
-                                0.5 * y + o.y(), periodic));
+        push(interpolate_pixels(pyramid[std::size_t(level) + 1], 0.5 * x + o.x(), 0.5 * y + o.y(),
+                                periodic));
     }
   if (result.pixels.empty())
     throw InputError(log::cat("surface_synthesis.neighbourhoods: with exemplar.border: discard no ",
                               image.width(), " x ", image.height(), " pixel of exemplar level ",
-                              level, " has its whole neighbourhood inside; use smaller "
+                              level,
+                              " has its whole neighbourhood inside; use smaller "
                               "neighbourhoods, fewer levels or border: toroidal"));
   return result;
 }

@@ -12,8 +12,8 @@
 namespace texsim::pipelines::surface_synthesis {
 
 struct ExemplarNeighbourhoods {
-  NeighbourhoodTable table;          ///< one row per candidate pixel, 3 values (RGB) per sample
-  std::vector<std::int32_t> pixels;  ///< row -> pixel index y * width + x in G_a(level)
+  NeighbourhoodTable table;         ///< one row per candidate pixel, 3 values (RGB) per sample
+  std::vector<std::int32_t> pixels; ///< row -> pixel index y * width + x in G_a(level)
 };
 
 /// Rows for every pixel of `pyramid[level]` (toroidal border) or for the pixels whose
@@ -23,9 +23,9 @@ struct ExemplarNeighbourhoods {
 /// the (x, y) -> (x + 1, y + 1) diagonals: the piecewise-linear surface the mesh neighbourhoods
 /// read too. Throws InputError naming surface_synthesis.neighbourhoods when discard leaves no
 /// candidate.
-ExemplarNeighbourhoods exemplar_neighbourhoods(const std::vector<img::RgbImage>& pyramid,
-                                               int level, const NeighbourhoodTemplate& layout,
-                                               Pass pass, ExemplarBorder border);
+ExemplarNeighbourhoods exemplar_neighbourhoods(const std::vector<img::RgbImage>& pyramid, int level,
+                                               const NeighbourhoodTemplate& layout, Pass pass,
+                                               ExemplarBorder border);
 
 /// The value of `image` at a fractional position by that triangle-wise linear interpolation
 /// (periodic when `periodic`, else the position must have its support inside).

@@ -74,8 +74,8 @@ img::RgbImage load_exemplar(const ExemplarSettings& settings, std::uint64_t seed
     const auto [x0, y0, w, h] = *settings.crop;
     if (x0 + w > image.width() || y0 + h > image.height())
       throw InputError(log::cat(kKey, ".crop: a box inside the ", image.width(), " x ",
-                                image.height(), " exemplar, got [", x0, ", ", y0, ", ", w, ", ",
-                                h, "]"));
+                                image.height(), " exemplar, got [", x0, ", ", y0, ", ", w, ", ", h,
+                                "]"));
     img::RgbImage cropped(w, h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
@@ -90,9 +90,9 @@ std::vector<img::RgbImage> exemplar_pyramid(const img::RgbImage& exemplar, int l
   int w = exemplar.width(), h = exemplar.height();
   for (int level = 0; level + 1 < levels; ++level) {
     if (border == ExemplarBorder::toroidal && (w % 2 || h % 2))
-      throw InputError(log::cat("surface_synthesis.levels: a toroidal exemplar pyramid of ",
-                                levels, " levels needs sides divisible by 2^", levels - 1,
-                                ", got ", exemplar.width(), " x ", exemplar.height(),
+      throw InputError(log::cat("surface_synthesis.levels: a toroidal exemplar pyramid of ", levels,
+                                " levels needs sides divisible by 2^", levels - 1, ", got ",
+                                exemplar.width(), " x ", exemplar.height(),
                                 "; crop the exemplar or use fewer levels"));
     w = (w + 1) / 2;
     h = (h + 1) / 2;

@@ -20,8 +20,7 @@ io::PvdSeries open_series(const par::Comm& comm, const std::filesystem::path& di
 
 LevelFrames::LevelFrames(const par::Comm& comm, const std::filesystem::path& output_dir,
                          std::optional<double> restart_time)
-    : comm_(comm), output_dir_(output_dir),
-      series_(open_series(comm, output_dir, restart_time)) {}
+    : comm_(comm), output_dir_(output_dir), series_(open_series(comm, output_dir, restart_time)) {}
 
 void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& retiled,
                         std::span<const geom::Vec3> directions, const LevelColours& colours) {
@@ -44,8 +43,8 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
   for (std::size_t i = 0; i < used.size(); ++i)
     local_of[std::size_t(used[i])] = std::int32_t(i);
   for (const auto& t : retiled.mesh.triangles)
-    if (const std::int32_t smallest = std::min({t[0], t[1], t[2]}); smallest >= first &&
-                                                                    smallest < end)
+    if (const std::int32_t smallest = std::min({t[0], t[1], t[2]});
+        smallest >= first && smallest < end)
       for (const auto v : t)
         triangles.push_back(local_of[std::size_t(v)]);
 
@@ -60,9 +59,9 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
     const auto& d = directions[std::size_t(v)];
     s.insert(s.end(), {d.x(), d.y(), d.z()});
     ids.push_back(v);
-    owner.push_back(std::int32_t(std::upper_bound(retiled.rank_offsets.begin(),
-                                                  retiled.rank_offsets.end(), v) -
-                                 retiled.rank_offsets.begin() - 1));
+    owner.push_back(
+        std::int32_t(std::upper_bound(retiled.rank_offsets.begin(), retiled.rank_offsets.end(), v) -
+                     retiled.rank_offsets.begin() - 1));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};
   piece.point_fields = {{"color", 3, std::span<const double>(colour)},

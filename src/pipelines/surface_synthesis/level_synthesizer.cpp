@@ -225,8 +225,7 @@ double LevelSynthesizer::neighbourhood_error(const LevelColours& current,
 }
 
 void LevelSynthesizer::neighbourhood(Pass pass, std::int64_t local, const LevelColours& current,
-                                     const LevelColours* coarser,
-                                     std::vector<double>& out) const {
+                                     const LevelColours* coarser, std::vector<double>& out) const {
   const PassData* data = passes_[pass == Pass::extrapolate ? 0 : 1].get();
   TEXSIM_VERIFY(data, "neighbourhood of a pass that reads nothing");
   query(*data, local, current, coarser, out);
@@ -242,8 +241,7 @@ std::size_t LevelSynthesizer::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& data : passes_)
     if (data)
-      bytes += data->search->memory_bytes() +
-               (data->exact ? data->exact->memory_bytes() : 0);
+      bytes += data->search->memory_bytes() + (data->exact ? data->exact->memory_bytes() : 0);
   return bytes;
 }
 

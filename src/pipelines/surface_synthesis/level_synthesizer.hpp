@@ -32,8 +32,7 @@ public:
   LevelSynthesizer(const par::Comm& comm, const LevelStencils& stencils,
                    std::span<const std::int64_t> rank_offsets,
                    const std::vector<img::RgbImage>& pyramid, int level,
-                   const NeighbourhoodTemplate& layout, SearchMethod method,
-                   ExemplarBorder border);
+                   const NeighbourhoodTemplate& layout, SearchMethod method, ExemplarBorder border);
   ~LevelSynthesizer();
 
   /// Whether `pass` reads any sample on this level.

@@ -43,8 +43,7 @@ std::vector<geom::Vec3> gather_positions(const par::Comm& comm, const geom::Surf
 } // namespace
 
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
-                                             const geom::TriangleMesh& surface,
-                                             std::uint64_t seed,
+                                             const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings) {
   const geom::MeshTopology surface_topology(surface);
   const std::int64_t euler = surface_topology.euler_characteristic();
@@ -54,10 +53,11 @@ std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
     if (count < 12)
       throw InputError(log::cat("surface_synthesis.levels: level ", k, " of ", settings.levels,
                                 " would have ", count, " vertices (", settings.finest_count,
-                                " / 4^", k, "); use fewer levels or more surface_synthesis."
-                                             "vertices"));
-    const auto target = std::size_t(std::min<std::int64_t>(kTrianglesPerVertex * count,
-                                                           surface.num_triangles()));
+                                " / 4^", k,
+                                "); use fewer levels or more surface_synthesis."
+                                "vertices"));
+    const auto target =
+        std::size_t(std::min<std::int64_t>(kTrianglesPerVertex * count, surface.num_triangles()));
     const geom::TriangleMesh placed_on = k == 0 ? surface : geom::simplify(surface, target);
     auto cells_settings = settings.cells;
     cells_settings.count = count;

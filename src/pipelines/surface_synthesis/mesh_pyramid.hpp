@@ -19,7 +19,7 @@ struct MeshPyramidSettings {
 
 /// One retiled level, replicated on every rank (for now).
 struct RetiledLevel {
-  geom::TriangleMesh mesh;  ///< vertex v = SurfaceCells id v (Morton order)
+  geom::TriangleMesh mesh;         ///< vertex v = SurfaceCells id v (Morton order)
   std::vector<geom::Vec3> normals; ///< unit area-weighted vertex normals of `mesh`
   /// First owned id of each rank and the total at the end (ranks + 1 entries): SurfaceCells' runs.
   std::vector<std::int64_t> rank_offsets;
@@ -34,8 +34,7 @@ struct RetiledLevel {
 /// is not a manifold with the surface's Euler characteristic. Same bytes on any rank count.
 /// Collective.
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
-                                             const geom::TriangleMesh& surface,
-                                             std::uint64_t seed,
+                                             const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings);
 
 } // namespace texsim::pipelines::surface_synthesis

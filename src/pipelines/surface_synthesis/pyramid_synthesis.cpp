@@ -50,12 +50,10 @@ std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
   return colours;
 }
 
-PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
-                                          const PyramidSynthesisInput& input,
+PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSynthesisInput& input,
                                           std::vector<LevelColours>& colours,
                                           const std::optional<SynthesisPosition>& resume,
-                                          const PyramidSynthesisHooks& hooks,
-                                          StageTimers& timers) {
+                                          const PyramidSynthesisHooks& hooks, StageTimers& timers) {
   PyramidSynthesisReport report;
   const int levels = int(input.pyramid.size());
   for (int k = levels - 1; k >= 0; --k) {
@@ -102,11 +100,10 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
         const auto order =
             synthesis_order(comm, *stencils, level.mesh.num_vertices(), input.seed, k, pass);
         level_report.classes[int(pass) - 1] = order.classes;
-        synthesizer->run_pass(pass, order, first_class, colours[K], coarser,
-                              [&](std::int32_t c) {
-                                if (hooks.after_class)
-                                  hooks.after_class(k, pass, c, order.classes);
-                              });
+        synthesizer->run_pass(pass, order, first_class, colours[K], coarser, [&](std::int32_t c) {
+          if (hooks.after_class)
+            hooks.after_class(k, pass, c, order.classes);
+        });
       }
       if (hooks.after_pass)
         hooks.after_pass(k, pass);

@@ -48,9 +48,9 @@ struct PyramidSynthesisReport {
     double uncovered_fraction = 0;
   };
   std::vector<Level> levels;
-  double neighbourhood_error = 0;      ///< finest level, after synthesis
-  double random_start_error = 0;       ///< finest level before synthesis (fresh runs only)
-  std::size_t search_bytes = 0;        ///< largest level's tables and search structures
+  double neighbourhood_error = 0; ///< finest level, after synthesis
+  double random_start_error = 0;  ///< finest level before synthesis (fresh runs only)
+  std::size_t search_bytes = 0;   ///< largest level's tables and search structures
 };
 
 /// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5;
@@ -61,8 +61,7 @@ std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
 
 /// Synthesises `colours` (from random_start or a checkpoint) from `resume` on (nullopt: from the
 /// start); `timers` gets "stencils" and "synthesis". Collective.
-PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm,
-                                          const PyramidSynthesisInput& input,
+PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSynthesisInput& input,
                                           std::vector<LevelColours>& colours,
                                           const std::optional<SynthesisPosition>& resume,
                                           const PyramidSynthesisHooks& hooks, StageTimers& timers);

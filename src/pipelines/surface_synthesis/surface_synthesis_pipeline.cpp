@@ -68,15 +68,15 @@ void SurfaceSynthesisPipeline::configure(const ConfigSection& section, const Run
 }
 
 MemoryEstimate SurfaceSynthesisPipeline::estimate_memory(int ranks) const {
-  auto estimate = geom::estimate_mesh_memory(settings_.mesh, "surface_synthesis.mesh", ranks, 400,
-                                             1000);
+  auto estimate =
+      geom::estimate_mesh_memory(settings_.mesh, "surface_synthesis.mesh", ranks, 400, 1000);
   // Pyramid (4/3 of the finest level), replicated, about 400 bytes a vertex; stencils of the
   // owned vertices, 2 x 49 samples x 40 bytes.
   const auto pyramid = std::uint64_t(settings_.vertices) * 4 / 3 * 400;
   const auto stencils = std::uint64_t(settings_.vertices) * 2 * 49 * 40 / std::uint64_t(ranks);
   return larger(estimate, {pyramid + stencils + estimate.bytes, "surface_synthesis.vertices",
-                           log::cat(settings_.vertices, " retiled vertices on ",
-                                    settings_.levels, " levels")});
+                           log::cat(settings_.vertices, " retiled vertices on ", settings_.levels,
+                                    " levels")});
 }
 
 void SurfaceSynthesisPipeline::run(RunContext& ctx) {
@@ -101,8 +101,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       exemplar = exemplar_pyramid(load_exemplar(settings_.exemplar, run.seed), levels,
                                   settings_.exemplar.border);
     });
-    log::info(log::cat("exemplar: ", exemplar[0].width(), " x ", exemplar[0].height(), ", ",
-                       levels, " levels"));
+    log::info(log::cat("exemplar: ", exemplar[0].width(), " x ", exemplar[0].height(), ", ", levels,
+                       " levels"));
   }
 
   std::vector<RetiledLevel> pyramid;
@@ -119,8 +119,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
                                {"triangles", pyramid[k].mesh.num_triangles()},
                                {"spacing", pyramid[k].spacing}});
       log::info(log::cat("level ", k, ": ", pyramid[k].mesh.num_vertices(), " vertices, ",
-                         pyramid[k].mesh.num_triangles(), " triangles, d = ",
-                         pyramid[k].spacing));
+                         pyramid[k].mesh.num_triangles(), " triangles, d = ", pyramid[k].spacing));
     }
     report.metric("levels", level_metrics);
   }
@@ -142,8 +141,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       const auto& level = pyramid[std::size_t(k)];
       if (k + 1 < levels)
         parents[std::size_t(k)] =
-            find_parent_faces(level.mesh.positions, level.normals,
-                              pyramid[std::size_t(k) + 1].mesh, trees[std::size_t(k) + 1]);
+            find_parent_faces(level.mesh.positions, level.normals, pyramid[std::size_t(k) + 1].mesh,
+                              trees[std::size_t(k) + 1]);
       auto& s = directions[std::size_t(k)];
       const auto random = random_directions(level.normals, run.seed, k);
       if (orientation.mode == OrientationMode::random) {
@@ -155,8 +154,9 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         std::int64_t degenerate = 0;
         s = projected_directions(level.normals, field, &degenerate);
         if (degenerate > 0)
-          log::info(log::cat("level ", k, ": the orientation field is normal to the surface or "
-                                          "zero at ",
+          log::info(log::cat("level ", k,
+                             ": the orientation field is normal to the surface or "
+                             "zero at ",
                              degenerate, " vertices (they take a fallback direction)"));
       } else {
         std::optional<CoarserOrientation> coarser;
@@ -167,10 +167,9 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         } else {
           s = random;
         }
-        const auto relaxed =
-            relax_directions(comm, level.rank_offsets, topologies[std::size_t(k)], level.normals,
-                             coarser ? &*coarser : nullptr, orientation.symmetry,
-                             orientation.sweeps, s);
+        const auto relaxed = relax_directions(comm, level.rank_offsets, topologies[std::size_t(k)],
+                                              level.normals, coarser ? &*coarser : nullptr,
+                                              orientation.symmetry, orientation.sweeps, s);
         relax_metrics.push_back({{"level", k},
                                  {"energy_start", relaxed.energy.front()},
                                  {"energy_end", relaxed.energy.back()},
@@ -194,9 +193,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     const auto found = store.resolve(*run.restart);
     for (const auto& skipped : found.skipped)
       log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-    par::run_collectively(comm, [&] {
-      resumed = load_synthesis(found.reader, pyramid, identity, colours);
-    });
+    par::run_collectively(
+        comm, [&] { resumed = load_synthesis(found.reader, pyramid, identity, colours); });
     classes_done = found.reader.step();
     log::info(log::cat("restarted from ", found.reader.path().string(), " at level ",
                        resumed->level, ", pass ", int(resumed->pass), ", class ",
@@ -204,11 +202,11 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   } else {
     colours = random_start(pyramid, exemplar, run.seed);
   }
-  LevelFrames frames(comm, run.output_dir,
-                     resumed ? std::optional<double>(LevelFrames::time_of(levels, resumed->level,
-                                                                          resumed->pass) -
-                                                     0.5)
-                             : std::nullopt);
+  LevelFrames frames(
+      comm, run.output_dir,
+      resumed
+          ? std::optional<double>(LevelFrames::time_of(levels, resumed->level, resumed->pass) - 0.5)
+          : std::nullopt);
 
   par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
   Progress progress("surface_synthesis", 2 * levels, "passes");
@@ -220,9 +218,9 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       save_synthesis(comm, store, classes_done, pyramid, colours, {k, pass, c + 1}, identity);
     }
     if (decision.stop)
-      throw CheckpointedStop(decision.signal_number,
-                             log::cat("at level ", k, ", pass ", int(pass), " after class ",
-                                      c + 1, " of ", classes));
+      throw CheckpointedStop(
+          decision.signal_number,
+          log::cat("at level ", k, ", pass ", int(pass), " after class ", c + 1, " of ", classes));
   };
   hooks.after_pass = [&](int k, Pass pass) {
     auto timer = ctx.timers.scope("output");
@@ -236,8 +234,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   input.method = settings_.search;
   input.border = settings_.exemplar.border;
   input.seed = run.seed;
-  const auto synthesis =
-      synthesize_pyramid(comm, input, colours, resumed, hooks, ctx.timers);
+  const auto synthesis = synthesize_pyramid(comm, input, colours, resumed, hooks, ctx.timers);
   progress.finish();
 
   nlohmann::json level_reports = nlohmann::json::array();

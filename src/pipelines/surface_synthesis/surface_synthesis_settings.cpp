@@ -29,12 +29,11 @@ NeighbourhoodShape parse_shape(const ConfigSection& section, const std::string& 
   const bool parsed = std::sscanf(text.c_str(), "%d%c%d%c%d%n", &shape.rows, &x, &shape.cols,
                                   &comma, &shape.levels, &used) == 5 &&
                       used == int(text.size()) && (x == 'x' || x == 'X') && comma == ',';
-  if (!parsed || shape.rows < 1 || shape.cols < 1 || shape.rows % 2 == 0 ||
-      shape.cols % 2 == 0 || shape.rows > 15 || shape.cols > 15 ||
-      (shape.levels != 1 && shape.levels != 2))
+  if (!parsed || shape.rows < 1 || shape.cols < 1 || shape.rows % 2 == 0 || shape.cols % 2 == 0 ||
+      shape.rows > 15 || shape.cols > 15 || (shape.levels != 1 && shape.levels != 2))
     section.fail("neighbourhoods", "entries \"RxC,k\" with odd R and C up to 15 and k 1 or 2 "
-                                   "(Wei-Levoy's {7x7,2}), got \"" +
-                                       text + "\"");
+                                   "(Wei-Levoy's {7x7,2}); \"" +
+                                       text + "\" is not one");
   return shape;
 }
 
@@ -47,11 +46,11 @@ ExemplarSettings read_exemplar(const ConfigSection& section) {
   if (has_image) {
     exemplar.image = section.require<std::string>("image");
   } else {
-    exemplar.procedural = section.choice<ProceduralExemplar>(
-        "procedural", ProceduralExemplar::none,
-        {{"stripes", ProceduralExemplar::stripes},
-         {"lattice", ProceduralExemplar::lattice},
-         {"grid", ProceduralExemplar::grid}});
+    exemplar.procedural =
+        section.choice<ProceduralExemplar>("procedural", ProceduralExemplar::none,
+                                           {{"stripes", ProceduralExemplar::stripes},
+                                            {"lattice", ProceduralExemplar::lattice},
+                                            {"grid", ProceduralExemplar::grid}});
     exemplar.size = section.get<int>("size", exemplar.size, int_in_range(8, 1024));
     exemplar.periods = section.get<int>("periods", exemplar.periods, int_in_range(1, 64));
   }
@@ -119,12 +118,17 @@ SurfaceSynthesisSettings read_surface_synthesis_settings(const ConfigSection& se
   SurfaceSynthesisSettings settings;
   settings.mesh = geom::read_mesh_source(section.section("mesh"));
   settings.levels = section.get<int>("levels", settings.levels, int_in_range(1, 8));
-  settings.vertices = section.get<std::int64_t>("vertices", settings.vertices,
-                                                [&](std::int64_t n) {
-                                                  return n >= 64 && n <= (std::int64_t{1} << 30)
-                                                             ? std::string()
-                                                             : std::string("from 64 to 2^30");
-                                                });
+  settings.vertices = section.get<std::int64_t>("vertices", settings.vertices, [&](std::int64_t n) {
+    return n >= 64 && n <= (std::int64_t{1} << 30) ? std::string() : std::string("from 64 to 2^30");
+  });
+  int most_levels = 1;
+  while ((settings.vertices >> (2 * most_levels)) >= 12)
+    ++most_levels;
+  if (settings.levels > most_levels)
+    section.fail("levels", "at most " + std::to_string(most_levels) + " levels for " +
+                               std::to_string(settings.vertices) +
+                               " vertices: each coarser level has a quarter of the vertices and "
+                               "the coarsest needs 12 (raise surface_synthesis.vertices)");
   settings.cells = read_retiling(section.section("retiling"));
   settings.exemplar = read_exemplar(section.section("exemplar"));
   if (section.has("neighbourhoods")) {
@@ -147,11 +151,10 @@ SurfaceSynthesisSettings read_surface_synthesis_settings(const ConfigSection& se
                                                   {"tsvq", SearchMethod::tsvq},
                                                   {"pruned", SearchMethod::pruned}});
   const auto atlas = section.section("atlas");
-  settings.atlas.resolution =
-      atlas.get<int>("resolution", settings.atlas.resolution, [](int r) {
-        return r == 0 || (r >= 64 && r <= 16384) ? std::string()
-                                                 : std::string("0 (no atlas) or 64 to 16384");
-      });
+  settings.atlas.resolution = atlas.get<int>("resolution", settings.atlas.resolution, [](int r) {
+    return r == 0 || (r >= 64 && r <= 16384) ? std::string()
+                                             : std::string("0 (no atlas) or 64 to 16384");
+  });
   settings.atlas.gutter = atlas.get<int>("gutter", settings.atlas.gutter, int_in_range(0, 16));
   settings.displacement_scale =
       section.section("displacement").get<double>("scale", 0.0, non_negative());

@@ -22,11 +22,11 @@ enum class ExemplarBorder {
 enum class ProceduralExemplar { none, stripes, lattice, grid };
 
 struct ExemplarSettings {
-  std::filesystem::path image;                       ///< image: PNG or JPEG file
+  std::filesystem::path image;                              ///< image: PNG or JPEG file
   ProceduralExemplar procedural = ProceduralExemplar::none; ///< procedural: stripes|lattice|grid
-  int size = 64;    ///< size: side of a procedural exemplar, pixels
-  int periods = 4;  ///< periods: stripes or grid lines across a procedural exemplar
-  int reduce = 1;   ///< reduce: power-of-two factor the image is shrunk by (Gaussian pyramid)
+  int size = 64;   ///< size: side of a procedural exemplar, pixels
+  int periods = 4; ///< periods: stripes or grid lines across a procedural exemplar
+  int reduce = 1;  ///< reduce: power-of-two factor the image is shrunk by (Gaussian pyramid)
   /// crop: [x, y, width, height] of the (reduced) image; absent: the whole image
   std::optional<std::array<int, 4>> crop;
   ExemplarBorder border = ExemplarBorder::toroidal; ///< border
@@ -58,8 +58,8 @@ struct AtlasOutputSettings {
 
 struct SurfaceSynthesisSettings {
   geom::MeshSource mesh;
-  std::int64_t vertices = 24576; ///< vertices: retiled vertices of the finest level (the scale)
-  int levels = 4;                ///< levels: mesh and exemplar pyramid levels
+  std::int64_t vertices = 24576;    ///< vertices: retiled vertices of the finest level (the scale)
+  int levels = 4;                   ///< levels: mesh and exemplar pyramid levels
   geom::SurfaceCellsSettings cells; ///< retiling: relaxation settings of Turk's retiling
   ExemplarSettings exemplar;
   /// neighbourhoods: one {R x C, k} per level, coarsest first (Wei-Levoy: {1x1,1}, {3x3,2},

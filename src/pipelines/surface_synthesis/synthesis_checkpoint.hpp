@@ -14,7 +14,7 @@ namespace texsim::pipelines::surface_synthesis {
 
 /// Where a run stands: the next class to synthesise.
 struct SynthesisPosition {
-  int level = 0;           ///< pyramid level (0 = finest)
+  int level = 0; ///< pyramid level (0 = finest)
   Pass pass = Pass::extrapolate;
   std::int32_t next_class = 0;
 };

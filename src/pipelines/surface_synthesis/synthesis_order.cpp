@@ -36,8 +36,8 @@ geom::CsrAdjacency conflict_graph(const par::Comm& comm, const LevelStencils& st
   MPI_Allgather(&local_count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
   std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
   std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
-  MPI_Allgatherv(pairs.data(), local_count, MPI_INT64_T, all.data(), counts.data(),
-                 offsets.data(), MPI_INT64_T, comm.raw);
+  MPI_Allgatherv(pairs.data(), local_count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
+                 MPI_INT64_T, comm.raw);
 
   geom::CsrAdjacency graph;
   graph.offsets.assign(std::size_t(vertices) + 1, 0);
@@ -93,8 +93,8 @@ SynthesisOrder synthesis_order(const par::Comm& comm, const LevelStencils& stenc
   }
   order.owned_members.resize(std::size_t(order.classes));
   for (std::int64_t local = 0; local < stencils.owned; ++local)
-    order.owned_members[std::size_t(order.class_of[std::size_t(stencils.first + local)])]
-        .push_back(local);
+    order.owned_members[std::size_t(order.class_of[std::size_t(stencils.first + local)])].push_back(
+        local);
   return order;
 }
 
