@@ -413,8 +413,11 @@ private:
     piece.borders.resize(kept);
     if (keep_polygons_) {
       piece.polygon.reserve(n);
-      for (const PolygonVertex& v : polygon)
+      piece.edge_labels.reserve(n);
+      for (const PolygonVertex& v : polygon) {
         piece.polygon.push_back(v.point);
+        piece.edge_labels.push_back(v.label);
+      }
     }
     return piece;
   }
