@@ -1,0 +1,41 @@
+#pragma once
+/// The restricted Delaunay triangulation of points on a surface: the dual of their restricted
+/// Voronoi diagram (restricted_voronoi.hpp), one triangle for every point of the surface where
+/// three cells meet. How Turk's retiling ("Re-tiling polygonal surfaces", SIGGRAPH '92) and
+/// Wei-Levoy's mesh pyramid (SIGGRAPH '01, Section 3.1) turn evenly spread points into a mesh whose
+/// vertices are those points.
+#include "geom/triangle_mesh.hpp"
+
+#include <cstdint>
+#include <span>
+
+namespace texsim::geom {
+
+/// Vertex i of the result is seeds[i] (same order). A triangle joins the seeds whose cells meet at
+/// a vertex of the restricted Voronoi diagram inside `surface` (a polygon vertex of a piece between
+/// two bisector edges, VoronoiPiece::edge_labels), counter-clockwise seen from the side the
+/// surface triangle holding that point faces. `seed_ids` (all different) only break ties, as in
+/// restricted_voronoi_pieces(); the triangles are written starting at their smallest-id vertex and
+/// sorted by their ids, so the result depends on neither the thread count nor the order of the
+/// surface's triangles, and permuting the seeds (with their ids) only renumbers the vertices.
+///
+/// Degenerate cases, decided here:
+/// - Four or more cells meeting at one point (cocircular seeds, e.g. a square lattice): every seed
+///   whose squared distance to the point is within 1e-9 (|p|_inf + r) r of the owning seed's
+///   (r = that seed's distance, round-off of the clipped vertex being far smaller) takes part;
+///   they are ordered counter-clockwise around the point in the surface triangle's plane and split
+///   as a fan from the smallest id. Every cell that sees the point finds the same fan, so the
+///   split is consistent.
+/// - The same three seeds met more than once (a triple of cells meeting at two points, or one point
+///   seen from both triangles of an edge it lies on): one triangle, oriented as most sightings say
+///   (ties: the orientation of the ids in increasing order).
+/// - A point where three cells meet exactly on a surface vertex, so that no piece has a corner
+///   between two bisector edges there, gives no triangle; nor does a meeting point that round-off
+///   puts outside both triangles of the edge it lies near. Both need seeds placed on purpose (or a
+///   1e-16-relative coincidence); the caller's manifold check (MeshTopology) reports the hole.
+/// It does not check manifoldness. Throws what restricted_voronoi_pieces() throws (repeated ids,
+/// non-finite seeds, cells not certified). OpenMP inside; not collective.
+TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                                 std::span<const std::int64_t> seed_ids);
+
+} // namespace texsim::geom
