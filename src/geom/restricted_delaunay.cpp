@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numeric>
 #include <utility>
 
@@ -52,17 +54,162 @@ CsrAdjacency voronoi_neighbours(const std::vector<VoronoiPiece>& pieces, std::si
   return adjacency;
 }
 
+/// Which cell each piece's region counts for in the dual. A seed's 3D Voronoi cell can meet the
+/// surface in several connected components (the surface folds back into it: thin parts, creases,
+/// saddles); its largest component keeps the seed, every other one is handed to the neighbour
+/// sharing the longest border with it, so that the dual is that of a tiling by connected cells.
+class PieceOwners {
+public:
+  PieceOwners(const TriangleMesh& surface, std::span<const std::int64_t> seed_ids,
+              const std::vector<VoronoiPiece>& pieces)
+      : pieces_(pieces), first_piece_(std::size_t(surface.num_triangles()) + 1, 0),
+        owner_(pieces.size()) {
+    for (const VoronoiPiece& piece : pieces)
+      ++first_piece_[std::size_t(piece.triangle) + 1];
+    std::partial_sum(first_piece_.begin(), first_piece_.end(), first_piece_.begin());
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      owner_[p] = pieces[p].seed;
+    hand_over_orphans(seed_ids, components(surface));
+  }
+
+  /// The cell whose region `cell`'s piece in triangle t counts for: `cell` itself unless that piece
+  /// is a handed-over component (or `cell` has no piece in t), followed through further hand-overs.
+  std::int32_t owner(std::int32_t cell, std::int32_t t) const {
+    for (int hop = 0; hop < kMaxHops; ++hop) {
+      const std::int64_t p = piece_of(cell, t);
+      if (p < 0 || owner_[std::size_t(p)] == cell)
+        return cell;
+      cell = owner_[std::size_t(p)];
+    }
+    return cell;
+  }
+
+private:
+  /// Hand-overs followed from one piece (a chain longer than this would need nested orphans).
+  static constexpr int kMaxHops = 4;
+
+  std::int64_t piece_of(std::int32_t cell, std::int32_t t) const {
+    for (std::size_t p = first_piece_[std::size_t(t)]; p < first_piece_[std::size_t(t) + 1]; ++p)
+      if (pieces_[p].seed == cell)
+        return std::int64_t(p);
+    return -1;
+  }
+
+  /// Union-find root of every piece: pieces of one seed in two triangles are connected when both
+  /// touch their shared edge along a segment (the cell, convex, meets the edge in one segment).
+  std::vector<std::size_t> components(const TriangleMesh& surface) const {
+    const MeshTopology topology(surface);
+    std::vector<std::size_t> parent(pieces_.size());
+    std::iota(parent.begin(), parent.end(), std::size_t{0});
+    const auto root = [&](std::size_t p) {
+      while (parent[p] != p)
+        p = parent[p] = parent[parent[p]];
+      return p;
+    };
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      const VoronoiPiece& piece = pieces_[p];
+      const Triangle& tri = surface.triangles[std::size_t(piece.triangle)];
+      const std::size_t n = piece.polygon.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec3& from = piece.polygon[k];
+        const Vec3& to = piece.polygon[(k + 1) % n];
+        if (piece.edge_labels[k] >= 0 || from == to)
+          continue;
+        // The side of the triangle this boundary edge lies on: the one nearest to both its ends.
+        int side = 0;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int c = 0; c < 3; ++c) {
+          const Vec3& a = surface.positions[std::size_t(tri[std::size_t(c)])];
+          const Vec3 along =
+              (surface.positions[std::size_t(tri[std::size_t((c + 1) % 3)])] - a).normalized();
+          const double off = std::max((from - a).cross(along).norm(), (to - a).cross(along).norm());
+          if (off < nearest) {
+            nearest = off;
+            side = c;
+          }
+        }
+        const std::int32_t edge =
+            topology.triangle_edges(piece.triangle)[std::size_t(side + 2) % 3];
+        const auto across = topology.edge_triangles(edge);
+        if (across.size() != 2)
+          continue;
+        const std::int32_t other = across[0] == piece.triangle ? across[1] : across[0];
+        const std::int64_t q = piece_of(piece.seed, other);
+        if (q >= 0)
+          parent[root(p)] = root(std::size_t(q));
+      }
+    }
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      parent[p] = root(p);
+    return parent;
+  }
+
+  void hand_over_orphans(std::span<const std::int64_t> seed_ids,
+                         const std::vector<std::size_t>& root) {
+    std::vector<double> component_area(pieces_.size(), 0.0);
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      component_area[root[p]] += pieces_[p].area;
+    // Each seed's largest component (exact ties: the first in piece order).
+    std::vector<std::int64_t> main_root(seed_ids.size(), -1);
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      std::int64_t& best = main_root[std::size_t(pieces_[p].seed)];
+      if (best < 0 || component_area[root[p]] > component_area[std::size_t(best)])
+        best = std::int64_t(root[p]);
+    }
+    // Border lengths of every other component with its neighbours, summed in piece order.
+    std::map<std::size_t, std::map<std::int32_t, double>> orphan_borders;
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (std::int64_t(root[p]) != main_root[std::size_t(pieces_[p].seed)]) {
+        auto& borders = orphan_borders[root[p]];
+        for (const auto& [other, length] : pieces_[p].borders)
+          borders[other] += length;
+      }
+    std::map<std::size_t, std::int32_t> heir;
+    for (const auto& [component, borders] : orphan_borders) {
+      std::int32_t best = -1;
+      for (const auto& [other, length] : borders)
+        if (best < 0 || length > borders.at(best) ||
+            (length == borders.at(best) &&
+             seed_ids[std::size_t(other)] < seed_ids[std::size_t(best)]))
+          best = other;
+      if (best >= 0)
+        heir[component] = best;
+    }
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (const auto found = heir.find(root[p]); found != heir.end())
+        owner_[p] = found->second;
+  }
+
+  const std::vector<VoronoiPiece>& pieces_;
+  std::vector<std::size_t> first_piece_; ///< per triangle: its first piece (pieces sorted by it)
+  std::vector<std::int32_t> owner_;      ///< per piece
+};
+
 class MeetingTriangulator {
 public:
   MeetingTriangulator(const TriangleMesh& surface, std::span<const Vec3> seeds,
                       std::span<const std::int64_t> seed_ids,
                       const std::vector<VoronoiPiece>& pieces)
       : surface_(surface), seeds_(seeds), ids_(seed_ids), pieces_(pieces),
-        neighbours_(voronoi_neighbours(pieces, seeds.size())) {}
+        neighbours_(voronoi_neighbours(pieces, seeds.size())), owners_(surface, seed_ids, pieces) {}
 
   /// The triangles of one meeting, counter-clockwise: (seed, a, b) when exactly three cells meet
-  /// there, else the fan of every meeting seed from the smallest id.
+  /// there, else the fan of every meeting seed from the smallest id; then each cell replaced by
+  /// the one its piece there counts for (PieceOwners), triangles left with a repeated cell dropped.
   std::vector<Triangle> triangles(const Meeting& meeting) const {
+    const std::int32_t t = pieces_[std::size_t(meeting.piece)].triangle;
+    std::vector<Triangle> result;
+    for (Triangle triangle : meeting_triangles(meeting)) {
+      for (std::int32_t& cell : triangle)
+        cell = owners_.owner(cell, t);
+      if (triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[2] != triangle[0])
+        result.push_back(triangle);
+    }
+    return result;
+  }
+
+private:
+  std::vector<Triangle> meeting_triangles(const Meeting& meeting) const {
     const VoronoiPiece& piece = pieces_[std::size_t(meeting.piece)];
     const std::size_t n = piece.polygon.size();
     const std::size_t k = std::size_t(meeting.corner);
@@ -80,7 +227,6 @@ public:
     return fan;
   }
 
-private:
   /// i, a, b and every neighbour of theirs as far from `point` as i within the tolerance; a seed
   /// that borders none of the three cells cannot meet them there.
   std::vector<std::int32_t> seeds_meeting_at(const Vec3& point, std::int32_t i, std::int32_t a,
@@ -128,6 +274,7 @@ private:
   std::span<const std::int64_t> ids_;
   const std::vector<VoronoiPiece>& pieces_;
   CsrAdjacency neighbours_;
+  PieceOwners owners_;
 };
 
 /// One sighting of a triangle: its vertices in increasing id order and whether it was seen in that

@@ -19,6 +19,13 @@ namespace texsim::geom {
 /// sorted by their ids, so the result depends on neither the thread count nor the order of the
 /// surface's triangles, and permuting the seeds (with their ids) only renumbers the vertices.
 ///
+/// A seed's 3D Voronoi cell may meet the surface in several connected components (the surface
+/// folds back into it near creases, saddles and thin parts). Its largest component (by area; exact
+/// ties: the first in (triangle, seed id) order) keeps the seed; every other component is handed to
+/// the neighbouring cell that shares the longest border with it (ties: smaller id), as if that
+/// cell reached there, so the triangles are those of a tiling by connected cells. Pieces of one
+/// seed in two triangles are connected when both touch their shared edge along a segment.
+///
 /// Degenerate cases, decided here:
 /// - Four or more cells meeting at one point (cocircular seeds, e.g. a square lattice): every seed
 ///   whose squared distance to the point is within 1e-9 (|p|_inf + r) r of the owning seed's
@@ -28,7 +35,9 @@ namespace texsim::geom {
 ///   split is consistent.
 /// - The same three seeds met more than once (a triple of cells meeting at two points, or one point
 ///   seen from both triangles of an edge it lies on): one triangle, oriented as most sightings say
-///   (ties: the orientation of the ids in increasing order).
+///   (ties: the orientation of the ids in increasing order). Met with opposite orientations, the
+///   triple marks a Voronoi edge piercing the surface twice (cells wrapping around a sharp corner
+///   or a part thinner than the spacing): the result is then usually not a manifold.
 /// - A point where three cells meet exactly on a surface vertex, so that no piece has a corner
 ///   between two bisector edges there, gives no triangle; nor does a meeting point that round-off
 ///   puts outside both triangles of the edge it lies near. Both need seeds placed on purpose (or a
