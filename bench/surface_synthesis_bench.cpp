@@ -11,6 +11,7 @@
 // Prints one JSON object on rank 0. Sample run:
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/surface_synthesis_bench --repeats 3
 #include "bench_timing.hpp"
+#include "core/log.hpp"
 #include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
@@ -95,6 +96,7 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   const Comm comm = texsim::par::world();
+  texsim::log::init(comm.rank, /*quiet=*/true); // stdout holds the JSON only
   const auto settings = parse(argc, argv);
   nlohmann::json out;
 
@@ -115,10 +117,11 @@ int main(int argc, char** argv) {
   pyramid_settings.finest_count = settings.vertices;
   pyramid_settings.levels = settings.levels;
   std::vector<RetiledLevel> pyramid;
-  const double hierarchy_s = max_over_ranks(comm, timed(comm, [&] {
-    pyramid = build_mesh_pyramid(comm, geom::icosphere(settings.icosphere_level), 1,
-                                 pyramid_settings);
-  }));
+  const double hierarchy_s =
+      max_over_ranks(comm, timed(comm, [&] {
+                       pyramid = build_mesh_pyramid(comm, geom::icosphere(settings.icosphere_level),
+                                                    1, pyramid_settings);
+                     }));
   std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<ParentFace>> parents(pyramid.size());
   for (std::size_t k = 0; k < pyramid.size(); ++k) {
@@ -132,8 +135,9 @@ int main(int argc, char** argv) {
   std::vector<std::vector<geom::Vec3>> directions;
   for (int r = 0; r < settings.repeats; ++r)
     relax_s.push_back(max_over_ranks(comm, timed(comm, [&] {
-      directions = relaxed(comm, pyramid, topologies, parents, settings.sweeps);
-    })));
+                                       directions = relaxed(comm, pyramid, topologies, parents,
+                                                            settings.sweeps);
+                                     })));
 
   PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
   for (int k = 0; k < settings.levels; ++k) {
@@ -143,9 +147,9 @@ int main(int argc, char** argv) {
   }
   nlohmann::json methods = nlohmann::json::object();
   std::vector<LevelColours> tsvq_colours;
-  for (const auto& [name, method] : {std::pair{"exact", SearchMethod::exhaustive},
-                                     std::pair{"tsvq", SearchMethod::tsvq},
-                                     std::pair{"pruned", SearchMethod::pruned}}) {
+  for (const auto& [name, method] :
+       {std::pair{"exact", SearchMethod::exhaustive}, std::pair{"tsvq", SearchMethod::tsvq},
+        std::pair{"pruned", SearchMethod::pruned}}) {
     input.method = method;
     input.measure_quality = false;
     std::vector<double> seconds;
@@ -154,8 +158,9 @@ int main(int argc, char** argv) {
       colours = random_start(pyramid, exemplar, 1);
       texsim::StageTimers timers;
       seconds.push_back(max_over_ranks(comm, timed(comm, [&] {
-        synthesize_pyramid(comm, input, colours, std::nullopt, {}, timers);
-      })));
+                                         synthesize_pyramid(comm, input, colours, std::nullopt, {},
+                                                            timers);
+                                       })));
     }
     // The error of this method's result, measured once with an exact search.
     input.measure_quality = true;
@@ -176,13 +181,12 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    const auto stencils =
-        build_level_stencils(level, topologies[0], directions[0], &pyramid[1], &topologies[1],
-                             parents[0], layout, first, owned);
+    const auto stencils = build_level_stencils(level, topologies[0], directions[0], &pyramid[1],
+                                               &topologies[1], parents[0], layout, first, owned);
     const LevelSynthesizer tsvq(comm, stencils, level.rank_offsets, exemplar, 0, layout,
                                 SearchMethod::tsvq, ExemplarBorder::toroidal);
-    const auto exact = make_neighbourhood_search(SearchMethod::pruned,
-                                                 tsvq.search(Pass::refine).table());
+    const auto exact =
+        make_neighbourhood_search(SearchMethod::pruned, tsvq.search(Pass::refine).table());
     double counts[2] = {0, double(owned)};
     std::vector<double> q;
     for (std::int64_t local = 0; local < owned; ++local) {

@@ -2,15 +2,15 @@
 
 #include "core/error.hpp"
 
-#include <Eigen/Geometry>
-
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -26,24 +26,103 @@ Kernel::Point_3 to_cgal(const Vec3& p) {
   return {p.x(), p.y(), p.z()};
 }
 
-/// Line parameter t where origin + t direction crosses the plane of triangle abc inside it
-/// (edges included), or nullopt (outside, or parallel). Moller-Trumbore without culling.
-std::optional<double> line_parameter(const Vec3& origin, const Vec3& direction, const Vec3& a,
-                                     const Vec3& b, const Vec3& c) {
+Vec3 from_cgal(const Kernel::Point_3& p) {
+  return {p.x(), p.y(), p.z()};
+}
+
+/// Barycentric slack of a line hit: points on a shared edge belong to both triangles.
+constexpr double kHitSlack = 1e-12;
+/// Sine of the angle between line and triangle below which they count as parallel.
+constexpr double kParallelSine = 1e-12;
+/// Node boxes are grown by this fraction of their largest coordinate, so round-off in the box
+/// test never drops a triangle the hit test accepts.
+constexpr double kBoxPadding = 1e-9;
+
+/// The line parameter where origin + t direction crosses triangle abc (Moller-Trumbore, both
+/// sides), or nullopt when it passes outside or runs parallel.
+std::optional<double> line_crossing(const Vec3& origin, const Vec3& direction, const Vec3& a,
+                                    const Vec3& b, const Vec3& c) {
   const Vec3 e1 = b - a, e2 = c - a;
   const Vec3 p = direction.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) <= 1e-300)
+  const double det = e1.dot(p); // -direction . (e1 x e2)
+  if (std::abs(det) <= kParallelSine * direction.norm() * e1.cross(e2).norm())
     return std::nullopt;
   const Vec3 s = origin - a;
   const double u = s.dot(p) / det;
   const Vec3 q = s.cross(e1);
   const double v = direction.dot(q) / det;
-  constexpr double kSlack = 1e-12; // points on an edge belong to both triangles
-  if (u < -kSlack || v < -kSlack || u + v > 1 + kSlack)
+  if (u < -kHitSlack || v < -kHitSlack || u + v > 1.0 + kHitSlack)
     return std::nullopt;
   return e2.dot(q) / det;
 }
+
+struct Line {
+  Vec3 origin, direction;
+};
+
+/// CGAL traversal traits: visits the boxes the line crosses no farther from the origin than the
+/// best hit so far and keeps the hit of smallest (|t|, triangle id).
+class NearestLineHit {
+public:
+  explicit NearestLineHit(Triangles::const_iterator first) : first_(first) {}
+
+  bool go_further() const { return true; }
+
+  template <class Primitive> void intersection(const Line& line, const Primitive& primitive) {
+    const Kernel::Triangle_3& tri = primitive.datum();
+    const auto t = line_crossing(line.origin, line.direction, from_cgal(tri.vertex(0)),
+                                 from_cgal(tri.vertex(1)), from_cgal(tri.vertex(2)));
+    if (!t)
+      return;
+    const auto id = static_cast<std::int32_t>(primitive.id() - first_);
+    const double abs_t = std::abs(*t);
+    if (abs_t < best_abs_t_ || (abs_t == best_abs_t_ && id < best_id_)) {
+      best_abs_t_ = abs_t;
+      best_t_ = *t;
+      best_id_ = id;
+    }
+  }
+
+  template <class Node> bool do_intersect(const Line& line, const Node& node) const {
+    const CGAL::Bbox_3& box = node.bbox();
+    double scale = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+      scale = std::max({scale, std::abs(box.min(axis)), std::abs(box.max(axis))});
+    const double pad = kBoxPadding * scale + std::numeric_limits<double>::min();
+    double t_lo = -std::numeric_limits<double>::infinity();
+    double t_hi = std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 3; ++axis) {
+      const double lo = box.min(axis) - pad, hi = box.max(axis) + pad;
+      const double o = line.origin[axis], d = line.direction[axis];
+      if (d == 0.0) {
+        if (o < lo || o > hi)
+          return false;
+        continue;
+      }
+      const double enter = (lo - o) / d, leave = (hi - o) / d;
+      t_lo = std::max(t_lo, std::min(enter, leave));
+      t_hi = std::min(t_hi, std::max(enter, leave));
+      if (t_lo > t_hi)
+        return false;
+    }
+    const double nearest =
+        t_lo <= 0.0 && t_hi >= 0.0 ? 0.0 : std::min(std::abs(t_lo), std::abs(t_hi));
+    return nearest <= best_abs_t_;
+  }
+
+  std::optional<ClosestPoint> result(const Line& line) const {
+    if (best_id_ < 0)
+      return std::nullopt;
+    return ClosestPoint{line.origin + best_t_ * line.direction, best_id_,
+                        best_abs_t_ * line.direction.norm()};
+  }
+
+private:
+  Triangles::const_iterator first_;
+  double best_abs_t_ = std::numeric_limits<double>::infinity();
+  double best_t_ = 0.0;
+  std::int32_t best_id_ = -1;
+};
 
 } // namespace
 
@@ -76,27 +155,12 @@ ClosestPoint AabbTree::closest_point(const Vec3& query) const {
 
 std::optional<ClosestPoint> AabbTree::nearest_line_hit(const Vec3& origin,
                                                        const Vec3& direction) const {
-  const Kernel::Line_3 line(to_cgal(origin), to_cgal(origin + direction));
-  std::vector<Tree::Primitive_id> hits;
-  impl_->tree.all_intersected_primitives(line, std::back_inserter(hits));
-  std::optional<ClosestPoint> best;
-  double best_t = std::numeric_limits<double>::infinity();
-  for (const auto primitive : hits) {
-    const auto& tri = *primitive;
-    const auto corner = [&](int i) {
-      const auto& p = tri.vertex(i);
-      return Vec3(p.x(), p.y(), p.z());
-    };
-    const auto t = line_parameter(origin, direction, corner(0), corner(1), corner(2));
-    if (!t)
-      continue;
-    const auto id = static_cast<std::int32_t>(primitive - impl_->triangles.cbegin());
-    if (std::abs(*t) < best_t || (std::abs(*t) == best_t && id < best->triangle)) {
-      best_t = std::abs(*t);
-      best = ClosestPoint{origin + *t * direction, id, best_t * direction.norm()};
-    }
-  }
-  return best;
+  if (direction == Vec3::Zero())
+    return std::nullopt;
+  const Line line{origin, direction};
+  NearestLineHit traits(impl_->triangles.cbegin());
+  impl_->tree.traversal(line, traits);
+  return traits.result(line);
 }
 
 } // namespace texsim::geom

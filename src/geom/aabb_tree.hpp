@@ -29,10 +29,13 @@ public:
   /// The point of the surface nearest to `query`.
   ClosestPoint closest_point(const Vec3& query) const;
 
-  /// Where the line origin + t * direction (t of either sign) meets the surface nearest to
-  /// `origin`: smallest |t|, ties to the smaller triangle id; `distance` is |t| |direction|.
-  /// Triangles parallel to the line are not hit. std::nullopt when the line misses. How Wei-Levoy
-  /// find a vertex's parent face on a coarser mesh (the line along +-n).
+  /// Where the line origin + t * direction (t of either sign) crosses the surface nearest to
+  /// `origin`: the smallest |t|, ties to the smaller triangle id; `distance` is |t| |direction|.
+  /// A triangle is hit when the crossing of its plane has barycentric coordinates >= -1e-12 (its
+  /// edges and corners belong to it, so a line through an edge is not lost between two
+  /// triangles); triangles parallel to the line (sine of the angle below 1e-12) are not hit.
+  /// std::nullopt when the line misses, or `direction` is zero. How Wei-Levoy find a vertex's
+  /// parent face on a coarser mesh level (the line along +-n_p). Thread-safe.
   std::optional<ClosestPoint> nearest_line_hit(const Vec3& origin, const Vec3& direction) const;
 
 private:

@@ -23,6 +23,20 @@ double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
 
+std::array<double, 3> barycentric_weights(const Vec3& a, const Vec3& b, const Vec3& c,
+                                          const Vec3& p) {
+  const Vec3 e1 = b - a;
+  const Vec3 e2 = c - a;
+  const Vec3 d = p - a;
+  // The 2x2 normal equations of d = u e1 + v e2.
+  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
+  const double det = g11 * g22 - g12 * g12;
+  const double d1 = d.dot(e1), d2 = d.dot(e2);
+  const double u = det > 0 ? (g22 * d1 - g12 * d2) / det : 0.0;
+  const double v = det > 0 ? (g11 * d2 - g12 * d1) / det : 0.0;
+  return {1 - u - v, u, v};
+}
+
 std::vector<double> triangle_areas(const TriangleMesh& mesh) {
   std::vector<double> areas(mesh.triangles.size());
   for (std::size_t t = 0; t < areas.size(); ++t) {

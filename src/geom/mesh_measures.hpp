@@ -2,12 +2,19 @@
 /// Areas, normals and edge lengths of a triangle mesh. Serial; model units throughout.
 #include "geom/triangle_mesh.hpp"
 
+#include <array>
 #include <vector>
 
 namespace texsim::geom {
 
 /// Area of triangle (a, b, c), in model units squared.
 double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// Barycentric weights of p in triangle (a, b, c): of the orthogonal projection of p into the
+/// triangle's plane, so a*w[0] + b*w[1] + c*w[2] is that projection; they sum to 1 and are not
+/// clamped (negative outside the triangle). {1, 0, 0} for a triangle of zero area.
+std::array<double, 3> barycentric_weights(const Vec3& a, const Vec3& b, const Vec3& c,
+                                          const Vec3& p);
 
 /// Area of each triangle, indexed like mesh.triangles.
 std::vector<double> triangle_areas(const TriangleMesh& mesh);

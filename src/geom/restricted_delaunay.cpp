@@ -1,47 +1,351 @@
 #include "geom/restricted_delaunay.hpp"
 
+#include "geom/mesh_topology.hpp"
 #include "geom/restricted_voronoi.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
 #include <numeric>
+#include <utility>
 
 namespace texsim::geom {
+namespace {
+
+/// Relative tolerance of "equally far" for the seeds meeting at a Voronoi vertex (see the header).
+constexpr double kMeetingTolerance = 1e-9;
+
+// Written out so that the value is the same in every build (as in restricted_voronoi.cpp).
+double squared_distance(const Vec3& a, const Vec3& b) {
+  const double dx = a.x() - b.x();
+  const double dy = a.y() - b.y();
+  const double dz = a.z() - b.z();
+  return dx * dx + dy * dy + dz * dz;
+}
+
+/// A corner of a piece between two bisector edges: the cells of the piece's seed and of the two
+/// labels meet there.
+struct Meeting {
+  std::int32_t piece;
+  std::int32_t corner;
+};
+
+/// Seeds whose cells share a border (of any length) somewhere on the surface, per seed.
+CsrAdjacency voronoi_neighbours(const std::vector<VoronoiPiece>& pieces, std::size_t num_seeds) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+  for (const VoronoiPiece& piece : pieces)
+    for (const std::int32_t label : piece.edge_labels)
+      if (label >= 0) {
+        pairs.emplace_back(piece.seed, label);
+        pairs.emplace_back(label, piece.seed);
+      }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  CsrAdjacency adjacency;
+  adjacency.offsets.assign(num_seeds + 1, 0);
+  for (const auto& [from, to] : pairs) {
+    ++adjacency.offsets[std::size_t(from) + 1];
+    adjacency.indices.push_back(to);
+  }
+  std::partial_sum(adjacency.offsets.begin(), adjacency.offsets.end(), adjacency.offsets.begin());
+  return adjacency;
+}
+
+/// Which cell each piece's region counts for in the dual. A seed's 3D Voronoi cell can meet the
+/// surface in several connected components (the surface folds back into it: thin parts, creases,
+/// saddles); its largest component keeps the seed, every other one is handed to the neighbour
+/// sharing the longest border with it, so that the dual is that of a tiling by connected cells.
+class PieceOwners {
+public:
+  PieceOwners(const TriangleMesh& surface, std::span<const std::int64_t> seed_ids,
+              const std::vector<VoronoiPiece>& pieces)
+      : pieces_(pieces), first_piece_(std::size_t(surface.num_triangles()) + 1, 0),
+        owner_(pieces.size()) {
+    for (const VoronoiPiece& piece : pieces)
+      ++first_piece_[std::size_t(piece.triangle) + 1];
+    std::partial_sum(first_piece_.begin(), first_piece_.end(), first_piece_.begin());
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      owner_[p] = pieces[p].seed;
+    hand_over_orphans(seed_ids, components(surface));
+  }
+
+  /// The cell whose region `cell`'s piece in triangle t counts for: `cell` itself unless that piece
+  /// is a handed-over component (or `cell` has no piece in t), followed through further hand-overs.
+  std::int32_t owner(std::int32_t cell, std::int32_t t) const {
+    for (int hop = 0; hop < kMaxHops; ++hop) {
+      const std::int64_t p = piece_of(cell, t);
+      if (p < 0 || owner_[std::size_t(p)] == cell)
+        return cell;
+      cell = owner_[std::size_t(p)];
+    }
+    return cell;
+  }
+
+private:
+  /// Hand-overs followed from one piece (a chain longer than this would need nested orphans).
+  static constexpr int kMaxHops = 4;
+
+  std::int64_t piece_of(std::int32_t cell, std::int32_t t) const {
+    for (std::size_t p = first_piece_[std::size_t(t)]; p < first_piece_[std::size_t(t) + 1]; ++p)
+      if (pieces_[p].seed == cell)
+        return std::int64_t(p);
+    return -1;
+  }
+
+  /// Union-find root of every piece: pieces of one seed in two triangles are connected when both
+  /// touch their shared edge along a segment (the cell, convex, meets the edge in one segment).
+  std::vector<std::size_t> components(const TriangleMesh& surface) const {
+    const MeshTopology topology(surface);
+    std::vector<std::size_t> parent(pieces_.size());
+    std::iota(parent.begin(), parent.end(), std::size_t{0});
+    const auto root = [&](std::size_t p) {
+      while (parent[p] != p)
+        p = parent[p] = parent[parent[p]];
+      return p;
+    };
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      const VoronoiPiece& piece = pieces_[p];
+      const Triangle& tri = surface.triangles[std::size_t(piece.triangle)];
+      const std::size_t n = piece.polygon.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec3& from = piece.polygon[k];
+        const Vec3& to = piece.polygon[(k + 1) % n];
+        if (piece.edge_labels[k] >= 0 || from == to)
+          continue;
+        // The side of the triangle this boundary edge lies on: the one nearest to both its ends.
+        int side = 0;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int c = 0; c < 3; ++c) {
+          const Vec3& a = surface.positions[std::size_t(tri[std::size_t(c)])];
+          const Vec3 along =
+              (surface.positions[std::size_t(tri[std::size_t((c + 1) % 3)])] - a).normalized();
+          const double off = std::max((from - a).cross(along).norm(), (to - a).cross(along).norm());
+          if (off < nearest) {
+            nearest = off;
+            side = c;
+          }
+        }
+        const std::int32_t edge =
+            topology.triangle_edges(piece.triangle)[std::size_t(side + 2) % 3];
+        const auto across = topology.edge_triangles(edge);
+        if (across.size() != 2)
+          continue;
+        const std::int32_t other = across[0] == piece.triangle ? across[1] : across[0];
+        const std::int64_t q = piece_of(piece.seed, other);
+        if (q >= 0)
+          parent[root(p)] = root(std::size_t(q));
+      }
+    }
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      parent[p] = root(p);
+    return parent;
+  }
+
+  void hand_over_orphans(std::span<const std::int64_t> seed_ids,
+                         const std::vector<std::size_t>& root) {
+    std::vector<double> component_area(pieces_.size(), 0.0);
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      component_area[root[p]] += pieces_[p].area;
+    // Each seed's largest component (exact ties: the first in piece order).
+    std::vector<std::int64_t> main_root(seed_ids.size(), -1);
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      std::int64_t& best = main_root[std::size_t(pieces_[p].seed)];
+      if (best < 0 || component_area[root[p]] > component_area[std::size_t(best)])
+        best = std::int64_t(root[p]);
+    }
+    // Border lengths of every other component with its neighbours, summed in piece order.
+    std::map<std::size_t, std::map<std::int32_t, double>> orphan_borders;
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (std::int64_t(root[p]) != main_root[std::size_t(pieces_[p].seed)]) {
+        auto& borders = orphan_borders[root[p]];
+        for (const auto& [other, length] : pieces_[p].borders)
+          borders[other] += length;
+      }
+    std::map<std::size_t, std::int32_t> heir;
+    for (const auto& [component, borders] : orphan_borders) {
+      std::int32_t best = -1;
+      for (const auto& [other, length] : borders)
+        if (best < 0 || length > borders.at(best) ||
+            (length == borders.at(best) &&
+             seed_ids[std::size_t(other)] < seed_ids[std::size_t(best)]))
+          best = other;
+      if (best >= 0)
+        heir[component] = best;
+    }
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (const auto found = heir.find(root[p]); found != heir.end())
+        owner_[p] = found->second;
+  }
+
+  const std::vector<VoronoiPiece>& pieces_;
+  std::vector<std::size_t> first_piece_; ///< per triangle: its first piece (pieces sorted by it)
+  std::vector<std::int32_t> owner_;      ///< per piece
+};
+
+class MeetingTriangulator {
+public:
+  MeetingTriangulator(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                      std::span<const std::int64_t> seed_ids,
+                      const std::vector<VoronoiPiece>& pieces)
+      : surface_(surface), seeds_(seeds), ids_(seed_ids), pieces_(pieces),
+        neighbours_(voronoi_neighbours(pieces, seeds.size())), owners_(surface, seed_ids, pieces) {}
+
+  /// The triangles of one meeting, counter-clockwise: (seed, a, b) when exactly three cells meet
+  /// there, else the fan of every meeting seed from the smallest id; then each cell replaced by
+  /// the one its piece there counts for (PieceOwners), triangles left with a repeated cell dropped.
+  std::vector<Triangle> triangles(const Meeting& meeting) const {
+    const std::int32_t t = pieces_[std::size_t(meeting.piece)].triangle;
+    std::vector<Triangle> result;
+    for (Triangle triangle : meeting_triangles(meeting)) {
+      for (std::int32_t& cell : triangle)
+        cell = owners_.owner(cell, t);
+      if (triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[2] != triangle[0])
+        result.push_back(triangle);
+    }
+    return result;
+  }
+
+private:
+  std::vector<Triangle> meeting_triangles(const Meeting& meeting) const {
+    const VoronoiPiece& piece = pieces_[std::size_t(meeting.piece)];
+    const std::size_t n = piece.polygon.size();
+    const std::size_t k = std::size_t(meeting.corner);
+    const std::int32_t i = piece.seed;
+    const std::int32_t a = piece.edge_labels[(k + n - 1) % n];
+    const std::int32_t b = piece.edge_labels[k];
+    const Vec3& point = piece.polygon[k];
+    std::vector<std::int32_t> meeting_seeds = seeds_meeting_at(point, i, a, b);
+    if (meeting_seeds.size() == 3)
+      return {Triangle{i, a, b}};
+    order_around(point, piece.triangle, meeting_seeds);
+    std::vector<Triangle> fan;
+    for (std::size_t s = 1; s + 1 < meeting_seeds.size(); ++s)
+      fan.push_back({meeting_seeds[0], meeting_seeds[s], meeting_seeds[s + 1]});
+    return fan;
+  }
+
+  /// i, a, b and every neighbour of theirs as far from `point` as i within the tolerance; a seed
+  /// that borders none of the three cells cannot meet them there.
+  std::vector<std::int32_t> seeds_meeting_at(const Vec3& point, std::int32_t i, std::int32_t a,
+                                             std::int32_t b) const {
+    const double reference = squared_distance(point, seeds_[std::size_t(i)]);
+    const double r = std::sqrt(reference);
+    const double tolerance = kMeetingTolerance * (point.cwiseAbs().maxCoeff() + r) * r;
+    std::vector<std::int32_t> result = {i, a, b};
+    for (const std::int32_t cell : {i, a, b})
+      for (const std::int32_t c : neighbours_.row(cell))
+        if (std::abs(squared_distance(point, seeds_[std::size_t(c)]) - reference) <= tolerance)
+          result.push_back(c);
+    std::sort(result.begin(), result.end());
+    result.erase(std::unique(result.begin(), result.end()), result.end());
+    return result;
+  }
+
+  /// Sorts `cells` counter-clockwise around `point` about the normal of surface triangle t, the
+  /// smallest id first.
+  void order_around(const Vec3& point, std::int32_t t, std::vector<std::int32_t>& cells) const {
+    const Triangle& tri = surface_.triangles[std::size_t(t)];
+    const Vec3& corner = surface_.positions[std::size_t(tri[0])];
+    const Vec3 u = (surface_.positions[std::size_t(tri[1])] - corner).normalized();
+    const Vec3 normal = u.cross(surface_.positions[std::size_t(tri[2])] - corner).normalized();
+    const Vec3 v = normal.cross(u);
+    std::vector<std::pair<double, std::int32_t>> angles;
+    for (const std::int32_t c : cells) {
+      const Vec3 w = seeds_[std::size_t(c)] - point;
+      angles.emplace_back(std::atan2(w.dot(v), w.dot(u)), c);
+    }
+    std::sort(angles.begin(), angles.end(), [this](const auto& x, const auto& y) {
+      return x.first < y.first ||
+             (x.first == y.first && ids_[std::size_t(x.second)] < ids_[std::size_t(y.second)]);
+    });
+    for (std::size_t s = 0; s < cells.size(); ++s)
+      cells[s] = angles[s].second;
+    const auto first = std::min_element(cells.begin(), cells.end(), [this](auto x, auto y) {
+      return ids_[std::size_t(x)] < ids_[std::size_t(y)];
+    });
+    std::rotate(cells.begin(), first, cells.end());
+  }
+
+  const TriangleMesh& surface_;
+  std::span<const Vec3> seeds_;
+  std::span<const std::int64_t> ids_;
+  const std::vector<VoronoiPiece>& pieces_;
+  CsrAdjacency neighbours_;
+  PieceOwners owners_;
+};
+
+/// One sighting of a triangle: its vertices in increasing id order and whether it was seen in that
+/// cyclic order (+1) or the other (-1).
+struct Sighting {
+  std::array<std::int64_t, 3> ids;
+  Triangle vertices;
+  int vote;
+};
+
+Sighting sighting_of(const Triangle& t, std::span<const std::int64_t> seed_ids) {
+  Triangle sorted = t;
+  std::sort(sorted.begin(), sorted.end(),
+            [&](auto x, auto y) { return seed_ids[std::size_t(x)] < seed_ids[std::size_t(y)]; });
+  // The sorted order is the same cycle as t when t is one of its rotations.
+  const bool same_cycle = (t[0] == sorted[0] && t[1] == sorted[1]) ||
+                          (t[1] == sorted[0] && t[2] == sorted[1]) ||
+                          (t[2] == sorted[0] && t[0] == sorted[1]);
+  return {{seed_ids[std::size_t(sorted[0])], seed_ids[std::size_t(sorted[1])],
+           seed_ids[std::size_t(sorted[2])]},
+          sorted,
+          same_cycle ? 1 : -1};
+}
+
+} // namespace
 
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
                                  std::span<const std::int64_t> seed_ids) {
-  std::vector<std::int32_t> all(std::size_t(surface.num_triangles()));
-  std::iota(all.begin(), all.end(), 0);
-  const auto pieces = restricted_voronoi_pieces(surface, all, seeds, seed_ids, true);
+  std::vector<std::int32_t> all_triangles(std::size_t(surface.num_triangles()));
+  std::iota(all_triangles.begin(), all_triangles.end(), 0);
+  const std::vector<VoronoiPiece> pieces =
+      restricted_voronoi_pieces(surface, all_triangles, seeds, seed_ids, true);
 
-  std::vector<Triangle> triangles;
-  for (const auto& piece : pieces) {
-    const auto& labels = piece.edge_labels;
+  std::vector<Meeting> meetings;
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    const auto& labels = pieces[p].edge_labels;
     const std::size_t n = labels.size();
     for (std::size_t k = 0; k < n; ++k) {
-      const std::int32_t a = labels[(k + n - 1) % n], b = labels[k];
-      if (a < 0 || b < 0 || a == b)
-        continue;
-      // Rotate so the smallest id comes first; the cyclic order (orientation) is kept.
-      Triangle t{piece.seed, a, b};
-      const auto first = std::min_element(t.begin(), t.end(), [&](auto x, auto y) {
-        return seed_ids[std::size_t(x)] < seed_ids[std::size_t(y)];
-      });
-      std::rotate(t.begin(), first, t.end());
-      triangles.push_back(t);
+      const std::int32_t before = labels[(k + n - 1) % n], after = labels[k];
+      // Equal labels: a border split in two by a round-off re-entry, not a meeting.
+      if (before >= 0 && after >= 0 && before != after)
+        meetings.push_back({std::int32_t(p), std::int32_t(k)});
     }
   }
-  const auto by_ids = [&](const Triangle& x, const Triangle& y) {
-    for (int c = 0; c < 3; ++c)
-      if (seed_ids[std::size_t(x[c])] != seed_ids[std::size_t(y[c])])
-        return seed_ids[std::size_t(x[c])] < seed_ids[std::size_t(y[c])];
-    return false;
-  };
-  std::sort(triangles.begin(), triangles.end(), by_ids);
-  triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+
+  const MeetingTriangulator triangulator(surface, seeds, seed_ids, pieces);
+  std::vector<std::vector<Triangle>> found(meetings.size());
+  const auto count = static_cast<std::int64_t>(meetings.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t m = 0; m < count; ++m)
+    found[std::size_t(m)] = triangulator.triangles(meetings[std::size_t(m)]);
+
+  std::vector<Sighting> sightings;
+  for (const auto& triangles : found)
+    for (const Triangle& t : triangles)
+      sightings.push_back(sighting_of(t, seed_ids));
+  std::sort(sightings.begin(), sightings.end(),
+            [](const Sighting& x, const Sighting& y) { return x.ids < y.ids; });
 
   TriangleMesh mesh;
   mesh.positions.assign(seeds.begin(), seeds.end());
-  mesh.triangles = std::move(triangles);
+  for (std::size_t s = 0; s < sightings.size();) {
+    int votes = 0;
+    std::size_t end = s;
+    for (; end < sightings.size() && sightings[end].ids == sightings[s].ids; ++end)
+      votes += sightings[end].vote;
+    const Triangle& v = sightings[s].vertices;
+    mesh.triangles.push_back(votes >= 0 ? v : Triangle{v[0], v[2], v[1]});
+    s = end;
+  }
   return mesh;
 }
 

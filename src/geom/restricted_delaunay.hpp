@@ -1,8 +1,9 @@
 #pragma once
-/// The restricted Delaunay triangulation of seed points on a surface: the dual of their
-/// restricted Voronoi diagram (restricted_voronoi.hpp), one triangle for every point of the
-/// surface where three cells meet. It is how Turk's retiling (1992) and Wei-Levoy's mesh levels
-/// turn evenly spread points into a mesh whose vertices are those points.
+/// The restricted Delaunay triangulation of points on a surface: the dual of their restricted
+/// Voronoi diagram (restricted_voronoi.hpp), one triangle for every point of the surface where
+/// three cells meet. How Turk's retiling ("Re-tiling polygonal surfaces", SIGGRAPH '92) and
+/// Wei-Levoy's mesh pyramid (SIGGRAPH '01, Section 3.1) turn evenly spread points into a mesh whose
+/// vertices are those points.
 #include "geom/triangle_mesh.hpp"
 
 #include <cstdint>
@@ -10,13 +11,39 @@
 
 namespace texsim::geom {
 
-/// Vertex i of the result is seeds[i]; a triangle (i, a, b) for every vertex of the restricted
-/// Voronoi diagram where the cells of seeds i, a and b meet inside a triangle of `surface`,
-/// counter-clockwise seen from the side the surface triangle faces. Each triple appears once
-/// (a vertex exactly on a surface edge is found from both sides), rotated to start at its smallest
-/// seed id; triangles are sorted, so the result depends on neither thread count nor triangle
-/// order. Where more than three cells meet at one point, or a triple meets twice, the result is
-/// not a manifold: callers check it with MeshTopology. Not collective; OpenMP inside.
+/// Vertex i of the result is seeds[i] (same order). A triangle joins the seeds whose cells meet at
+/// a vertex of the restricted Voronoi diagram inside `surface` (a polygon vertex of a piece between
+/// two bisector edges, VoronoiPiece::edge_labels), counter-clockwise seen from the side the
+/// surface triangle holding that point faces. `seed_ids` (all different) only break ties, as in
+/// restricted_voronoi_pieces(); the triangles are written starting at their smallest-id vertex and
+/// sorted by their ids, so the result depends on neither the thread count nor the order of the
+/// surface's triangles, and permuting the seeds (with their ids) only renumbers the vertices.
+///
+/// A seed's 3D Voronoi cell may meet the surface in several connected components (the surface
+/// folds back into it near creases, saddles and thin parts). Its largest component (by area; exact
+/// ties: the first in (triangle, seed id) order) keeps the seed; every other component is handed to
+/// the neighbouring cell that shares the longest border with it (ties: smaller id), as if that
+/// cell reached there, so the triangles are those of a tiling by connected cells. Pieces of one
+/// seed in two triangles are connected when both touch their shared edge along a segment.
+///
+/// Degenerate cases, decided here:
+/// - Four or more cells meeting at one point (cocircular seeds, e.g. a square lattice): every seed
+///   whose squared distance to the point is within 1e-9 (|p|_inf + r) r of the owning seed's
+///   (r = that seed's distance, round-off of the clipped vertex being far smaller) takes part;
+///   they are ordered counter-clockwise around the point in the surface triangle's plane and split
+///   as a fan from the smallest id. Every cell that sees the point finds the same fan, so the
+///   split is consistent.
+/// - The same three seeds met more than once (a triple of cells meeting at two points, or one point
+///   seen from both triangles of an edge it lies on): one triangle, oriented as most sightings say
+///   (ties: the orientation of the ids in increasing order). Met with opposite orientations, the
+///   triple marks a Voronoi edge piercing the surface twice (cells wrapping around a sharp corner
+///   or a part thinner than the spacing): the result is then usually not a manifold.
+/// - A point where three cells meet exactly on a surface vertex, so that no piece has a corner
+///   between two bisector edges there, gives no triangle; nor does a meeting point that round-off
+///   puts outside both triangles of the edge it lies near. Both need seeds placed on purpose (or a
+///   1e-16-relative coincidence); the caller's manifold check (MeshTopology) reports the hole.
+/// It does not check manifoldness. Throws what restricted_voronoi_pieces() throws (repeated ids,
+/// non-finite seeds, cells not certified). OpenMP inside; not collective.
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
                                  std::span<const std::int64_t> seed_ids);
 

@@ -25,10 +25,11 @@ struct VoronoiPiece {
   std::vector<std::pair<std::int32_t, double>> borders;
   std::vector<Vec3>
       polygon; ///< the clipped convex polygon's vertices in order (only when keep_polygons)
-  /// Parallel to `polygon` (only when keep_polygons): what made the edge polygon[k] ->
-  /// polygon[k + 1 mod n]: the index of the other seed whose bisector it lies on, or -1 for a part
-  /// of the triangle's boundary. A vertex between two bisector edges a, b is a Voronoi vertex of
-  /// (seed, a, b), counter-clockwise in that order seen from outside.
+  /// Parallel to `polygon` (only when keep_polygons): label k belongs to the edge polygon[k] ->
+  /// polygon[k + 1 mod n] and is the index (into the seeds span) of the other seed whose bisector
+  /// made that edge, or -1 when the edge lies on the triangle's boundary. The polygon runs in the
+  /// triangle's corner order, so a vertex between edges labelled a then b is where the cells of
+  /// (seed, a, b) meet, counter-clockwise in that order seen from the side the triangle faces.
   std::vector<std::int32_t> edge_labels;
 };
 

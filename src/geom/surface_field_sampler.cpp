@@ -1,6 +1,7 @@
 #include "geom/surface_field_sampler.hpp"
 
 #include "core/error.hpp"
+#include "geom/mesh_measures.hpp"
 
 namespace texsim::geom {
 
@@ -20,18 +21,11 @@ std::vector<double> SurfaceFieldSampler::sample(std::size_t k, std::span<const V
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto closest = tree_.closest_point(points[i]);
     const auto& t = mesh_.triangles[std::size_t(closest.triangle)];
-    const Vec3& a = mesh_.positions[std::size_t(t[0])];
-    const Vec3 e1 = mesh_.positions[std::size_t(t[1])] - a;
-    const Vec3 e2 = mesh_.positions[std::size_t(t[2])] - a;
-    const Vec3 d = closest.point - a;
-    // Barycentric coordinates from the 2x2 normal equations of d = u e1 + v e2.
-    const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
-    const double det = g11 * g22 - g12 * g12;
-    const double d1 = d.dot(e1), d2 = d.dot(e2);
-    const double u = det > 0 ? (g22 * d1 - g12 * d2) / det : 0.0;
-    const double v = det > 0 ? (g11 * d2 - g12 * d1) / det : 0.0;
-    result[i] = (1 - u - v) * field[std::size_t(t[0])] + u * field[std::size_t(t[1])] +
-                v * field[std::size_t(t[2])];
+    const auto w =
+        barycentric_weights(mesh_.positions[std::size_t(t[0])], mesh_.positions[std::size_t(t[1])],
+                            mesh_.positions[std::size_t(t[2])], closest.point);
+    result[i] = w[0] * field[std::size_t(t[0])] + w[1] * field[std::size_t(t[1])] +
+                w[2] * field[std::size_t(t[2])];
   }
   return result;
 }

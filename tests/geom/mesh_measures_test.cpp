@@ -1,6 +1,7 @@
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,6 +44,19 @@ TEST(MeshMeasures, IcosphereAreaConvergesToSphereAtSecondOrder) {
     previous_error = error;
   }
   EXPECT_LT(previous_error / (4.0 * M_PI), 1e-3);
+}
+
+TEST(MeshMeasures, BarycentricWeightsRecoverTheProjectedPoint) {
+  const Vec3 a(0.3, -1.0, 2.0), b(2.0, 0.5, 1.0), c(-0.5, 1.5, 0.0);
+  const Vec3 normal = (b - a).cross(c - a).normalized();
+  const std::array<double, 3> weights = {0.2, -0.3, 1.1}; // outside the triangle: not clamped
+  const Vec3 in_plane = weights[0] * a + weights[1] * b + weights[2] * c;
+  const auto w = barycentric_weights(a, b, c, in_plane + 0.7 * normal);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(w[k], weights[k], 1e-14);
+  const auto degenerate = barycentric_weights(a, a, a, b);
+  EXPECT_EQ(degenerate[0], 1.0);
+  EXPECT_EQ(degenerate[1], 0.0);
 }
 
 } // namespace

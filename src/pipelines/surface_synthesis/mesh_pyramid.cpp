@@ -2,42 +2,130 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/rng.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_simplification.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/mesh_validation.hpp"
 #include "geom/restricted_delaunay.hpp"
+#include "par/collective.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// Triangles of the surface a level's points are placed on, per point: enough that the simplified
-/// surface follows the shape well below the level's vertex spacing.
-constexpr std::int64_t kTrianglesPerVertex = 8;
+/// Fewer vertices than an icosahedron cannot retile a closed surface into a useful level.
+constexpr std::int64_t kMinLevelVertices = 12;
 
-/// Every cell's centre by id, on every rank.
-std::vector<geom::Vec3> gather_positions(const par::Comm& comm, const geom::SurfaceCells& cells) {
+std::uint64_t level_seed(std::uint64_t seed, int level) {
+  const auto bits = CounterRng(seed, kLevelSeedStream).bits(std::uint64_t(level), 0);
+  return (std::uint64_t{bits[0]} << 32) | bits[1];
+}
+
+/// Every cell's centre, indexed by id, on every rank.
+std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
+                                              const geom::SurfaceCells& cells) {
   std::vector<double> owned;
-  for (const auto& p : cells.points())
-    owned.insert(owned.end(), {p.position.x(), p.position.y(), p.position.z()});
-  const auto offsets = cells.rank_offsets();
-  std::vector<int> counts(std::size_t(comm.size)), displs(std::size_t(comm.size));
-  for (int r = 0; r < comm.size; ++r) {
-    displs[std::size_t(r)] = int(3 * offsets[std::size_t(r)]);
-    counts[std::size_t(r)] = int(3 * (offsets[std::size_t(r) + 1] - offsets[std::size_t(r)]));
+  owned.reserve(3 * std::size_t(cells.owned_count()));
+  for (std::int32_t i = 0; i < cells.owned_count(); ++i) {
+    TEXSIM_VERIFY(cells.ids()[std::size_t(i)] == cells.owned_begin() + i,
+                  "mesh pyramid: owned cell ids are not a contiguous run");
+    const geom::Vec3& p = cells.points()[std::size_t(i)].position;
+    owned.insert(owned.end(), {p.x(), p.y(), p.z()});
   }
-  std::vector<double> all(std::size_t(3 * cells.global_count()));
+  const auto offsets = cells.rank_offsets();
+  std::vector<int> counts(std::size_t(comm.size)), displacements(std::size_t(comm.size));
+  for (std::size_t r = 0; r < std::size_t(comm.size); ++r) {
+    counts[r] = int(3 * (offsets[r + 1] - offsets[r]));
+    displacements[r] = int(3 * offsets[r]);
+  }
+  std::vector<double> all(3 * std::size_t(cells.global_count()));
   MPI_Allgatherv(owned.data(), int(owned.size()), MPI_DOUBLE, all.data(), counts.data(),
-                 displs.data(), MPI_DOUBLE, comm.raw);
-  std::vector<geom::Vec3> positions;
-  for (std::size_t i = 0; i < all.size(); i += 3)
-    positions.emplace_back(all[i], all[i + 1], all[i + 2]);
+                 displacements.data(), MPI_DOUBLE, comm.raw);
+  std::vector<geom::Vec3> positions(std::size_t(cells.global_count()));
+  for (std::size_t id = 0; id < positions.size(); ++id)
+    positions[id] = {all[3 * id], all[3 * id + 1], all[3 * id + 2]};
   return positions;
+}
+
+/// What keeps `mesh` from being a retiling of a surface with `input`'s topology, in words; empty
+/// when nothing does.
+std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTopology& input) {
+  const geom::MeshTopology topology(mesh);
+  std::string defects;
+  const auto add = [&](const std::string& what) {
+    defects += (defects.empty() ? "" : ", ") + what;
+  };
+  if (!topology.non_manifold_edges().empty())
+    add(log::cat(topology.non_manifold_edges().size(), " non-manifold edges"));
+  if (!topology.non_manifold_vertices().empty())
+    add(log::cat(topology.non_manifold_vertices().size(), " non-manifold vertices"));
+  if (!topology.isolated_vertices().empty())
+    add(log::cat(topology.isolated_vertices().size(), " vertices in no triangle"));
+  if (topology.boundary_edges().size() != input.boundary_edges().size() &&
+      (topology.is_closed() || input.is_closed()))
+    add(log::cat(topology.boundary_edges().size(), " boundary edges (the surface has ",
+                 input.boundary_edges().size(), ")"));
+  if (topology.euler_characteristic() != input.euler_characteristic())
+    add(log::cat("Euler characteristic ", topology.euler_characteristic(), " (the surface's is ",
+                 input.euler_characteristic(), ")"));
+  if (defects.empty()) {
+    const auto orientation = geom::validate(mesh).inconsistent_orientation;
+    if (orientation)
+      add(log::cat(orientation.count, " edges with inconsistently oriented triangles"));
+  }
+  return defects;
+}
+
+RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surface,
+                          const geom::MeshTopology& surface_topology, std::uint64_t seed,
+                          const MeshPyramidSettings& settings, int level) {
+  const std::int64_t count = settings.finest_count >> (2 * level);
+  // Level 0 on the surface itself; coarser levels on a simplification with a few triangles per
+  // cell, never more than the input has.
+  const std::int64_t target =
+      std::min<std::int64_t>(kTrianglesPerLevelVertex * count, surface.num_triangles());
+  geom::TriangleMesh placed_on;
+  par::run_collectively(comm, [&] {
+    placed_on = level == 0 || target >= surface.num_triangles()
+                    ? surface
+                    : geom::simplify(surface, std::size_t(target));
+  });
+  geom::SurfaceCellsSettings cells_settings = settings.cells;
+  cells_settings.count = count;
+  const geom::SurfaceCells cells(comm, placed_on, geom::MeshTopology(placed_on),
+                                 level_seed(seed, level), cells_settings);
+  const std::vector<geom::Vec3> positions = gather_cell_positions(comm, cells);
+
+  RetiledLevel retiled;
+  par::run_collectively(comm, [&] {
+    std::vector<std::int64_t> ids(positions.size());
+    std::iota(ids.begin(), ids.end(), std::int64_t{0});
+    retiled.mesh = geom::restricted_delaunay(placed_on, positions, ids);
+    const std::string defects = topology_defects(retiled.mesh, surface_topology);
+    if (!defects.empty())
+      TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "
+                         << level << " of " << settings.levels << " (" << count
+                         << " vertices) does not retile the surface into a manifold like it: "
+                         << defects
+                         << "; its vertices are too few for the surface's thin parts: use more "
+                            "surface_synthesis.vertices or fewer surface_synthesis.levels");
+  });
+  retiled.normals = geom::vertex_normals(retiled.mesh);
+  const auto offsets = cells.rank_offsets();
+  retiled.rank_offsets.assign(offsets.begin(), offsets.end());
+  retiled.spacing =
+      std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
+  log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",
+                     retiled.mesh.num_triangles(), " triangles, spacing ", retiled.spacing,
+                     " (placed on ", placed_on.num_triangles(), " triangles)"));
+  return retiled;
 }
 
 } // namespace
@@ -45,50 +133,22 @@ std::vector<geom::Vec3> gather_positions(const par::Comm& comm, const geom::Surf
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings) {
+  if (settings.levels < 1)
+    TEXSIM_INPUT_ERROR("surface_synthesis.levels: " << settings.levels
+                                                    << " levels; at least 1 is needed");
+  // A quarter as many vertices per coarser level (levels past 31 would leave none).
+  const std::int64_t coarsest =
+      settings.levels > 31 ? 0 : settings.finest_count >> (2 * (settings.levels - 1));
+  if (coarsest < kMinLevelVertices)
+    TEXSIM_INPUT_ERROR("surface_synthesis.levels, surface_synthesis.vertices: "
+                       << settings.levels << " levels of " << settings.finest_count
+                       << " vertices leave " << coarsest
+                       << " on the coarsest level (a quarter per level), fewer than "
+                       << kMinLevelVertices << "; use fewer levels or more vertices");
   const geom::MeshTopology surface_topology(surface);
-  const std::int64_t euler = surface_topology.euler_characteristic();
   std::vector<RetiledLevel> pyramid;
-  for (int k = 0; k < settings.levels; ++k) {
-    const std::int64_t count = settings.finest_count >> (2 * k);
-    if (count < 12)
-      throw InputError(log::cat("surface_synthesis.levels: level ", k, " of ", settings.levels,
-                                " would have ", count, " vertices (", settings.finest_count,
-                                " / 4^", k,
-                                "); use fewer levels or more surface_synthesis."
-                                "vertices"));
-    const auto target =
-        std::size_t(std::min<std::int64_t>(kTrianglesPerVertex * count, surface.num_triangles()));
-    const geom::TriangleMesh placed_on = k == 0 ? surface : geom::simplify(surface, target);
-    auto cells_settings = settings.cells;
-    cells_settings.count = count;
-    const std::uint64_t level_seed = seed + 0x9E3779B97F4A7C15ull * std::uint64_t(k);
-    const geom::SurfaceCells cells(comm, placed_on, geom::MeshTopology(placed_on), level_seed,
-                                   cells_settings);
-    const auto positions = gather_positions(comm, cells);
-    std::vector<std::int64_t> ids(positions.size());
-    std::iota(ids.begin(), ids.end(), 0);
-
-    RetiledLevel level;
-    level.mesh = geom::restricted_delaunay(placed_on, positions, ids);
-    const geom::MeshTopology topology(level.mesh);
-    if (!topology.is_manifold() || topology.is_closed() != surface_topology.is_closed() ||
-        topology.euler_characteristic() != euler || !topology.isolated_vertices().empty())
-      throw InputError(log::cat(
-          "surface_synthesis.vertices: the retiled mesh of level ", k, " (", count,
-          " vertices) is not a manifold with the surface's Euler characteristic ", euler, " (got ",
-          topology.euler_characteristic(), ", ", topology.non_manifold_edges().size(),
-          " non-manifold edges, ", topology.isolated_vertices().size(),
-          " vertices without triangles): too few vertices for the surface's thin parts; use more "
-          "vertices or fewer surface_synthesis.levels"));
-    level.normals = geom::vertex_normals(level.mesh);
-    const auto offsets = cells.rank_offsets();
-    level.rank_offsets.assign(offsets.begin(), offsets.end());
-    const auto areas = geom::triangle_areas(level.mesh);
-    const double mean_area =
-        std::accumulate(areas.begin(), areas.end(), 0.0) / double(areas.size());
-    level.spacing = std::sqrt(2 * mean_area);
-    pyramid.push_back(std::move(level));
-  }
+  for (int level = 0; level < settings.levels; ++level)
+    pyramid.push_back(retile_level(comm, surface, surface_topology, seed, settings, level));
   return pyramid;
 }
 

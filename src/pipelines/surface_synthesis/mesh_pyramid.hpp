@@ -1,7 +1,8 @@
 #pragma once
-/// Wei-Levoy's mesh pyramid G_s (Section 3.1, Table 3 lines 2-3): the surface simplified level by
-/// level and each level retiled by Turk's method into evenly spread vertices, a quarter as many on
-/// each coarser level. The finest level's vertex count sets the texture's scale (Fig. 2).
+/// Wei-Levoy's mesh pyramid G_s (SIGGRAPH '01, Section 3.1; Table 3, lines 2-3): the surface
+/// simplified level by level, each level retiled by Turk's method into evenly spread vertices, a
+/// quarter as many on each coarser level. The finest level's vertex count sets the texture's scale
+/// (Fig. 2).
 #include "geom/surface_cells.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
@@ -11,10 +12,17 @@
 
 namespace texsim::pipelines::surface_synthesis {
 
+/// CounterRng stream from which each level's retiling seed is drawn, keyed by the level.
+inline constexpr std::uint32_t kLevelSeedStream = 0x5310;
+
+/// Simplified surfaces keep this many triangles per vertex of their level (see build_mesh_pyramid).
+inline constexpr std::int64_t kTrianglesPerLevelVertex = 8;
+
 struct MeshPyramidSettings {
-  std::int64_t finest_count = 24576; ///< vertices of level 0
-  int levels = 4;
-  geom::SurfaceCellsSettings cells; ///< relaxation of the retiling (its count is set per level)
+  std::int64_t finest_count = 24576; ///< vertices of level 0 (`surface_synthesis.vertices`)
+  int levels = 4;                    ///< `surface_synthesis.levels`
+  /// Relaxation sweeps and halo of the retiling; `cells.count` is ignored (set per level).
+  geom::SurfaceCellsSettings cells;
 };
 
 /// One retiled level, replicated on every rank (for now).
@@ -23,16 +31,23 @@ struct RetiledLevel {
   std::vector<geom::Vec3> normals; ///< unit area-weighted vertex normals of `mesh`
   /// First owned id of each rank and the total at the end (ranks + 1 entries): SurfaceCells' runs.
   std::vector<std::int64_t> rank_offsets;
-  double spacing = 0; ///< d_L = sqrt(2 A_L), A_L the mean triangle area (Wei-Levoy 3.3)
+  double spacing = 0; ///< d_L = sqrt(2 A_L), A_L the mean triangle area of `mesh` (Section 3.3)
 };
 
-/// Levels [0] finest (finest_count vertices) to [levels - 1] (finest_count / 4^(levels-1)).
-/// Level k places its vertices on geom::simplify(surface) with at most 8 times as many triangles
-/// as it gets vertices (level 0 on the surface itself), retiles them with geom::SurfaceCells
-/// (seed keyed by level) and triangulates them by geom::restricted_delaunay. Throws InputError
-/// naming surface_synthesis.levels / .vertices when a level has fewer than 12 vertices or its mesh
-/// is not a manifold with the surface's Euler characteristic. Same bytes on any rank count.
-/// Collective.
+/// Levels [0] (finest_count vertices) to [levels - 1] (finest_count / 4^(levels - 1), rounded
+/// down). Level k places its vertices with geom::SurfaceCells (relaxed, Morton-numbered; seed
+/// drawn from CounterRng(seed, kLevelSeedStream) keyed by k) on level 0's input surface itself
+/// and, for k > 0, on geom::simplify(surface, min(input triangles, kTrianglesPerLevelVertex *
+/// count)): about 8 triangles per cell keep the simplified shape well within a cell spacing, and
+/// the input is never refined. Every cell's centre is gathered by id and the level's mesh is
+/// geom::restricted_delaunay of them on the surface they were placed on.
+///
+/// Throws InputError (naming surface_synthesis.levels and surface_synthesis.vertices) when
+/// settings.levels < 1, the coarsest level would get fewer than 12 vertices, or a level's mesh is
+/// not a consistently oriented manifold using every vertex with the input's Euler characteristic
+/// and boundary: the message gives the level, its vertex count and what was found. Every rank gets
+/// the same bytes for any rank or thread count (SurfaceCells ids do not depend on them).
+/// Collective over comm; every rank passes the same surface.
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings);

@@ -20,8 +20,4 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
                                           const geom::TriangleMesh& coarse,
                                           const geom::AabbTree& coarse_tree);
 
-/// Barycentric weights of `point` (on or near the plane of triangle t) in t.
-std::array<double, 3> barycentric_weights(const geom::TriangleMesh& mesh, std::int32_t t,
-                                          const geom::Vec3& point);
-
 } // namespace texsim::pipelines::surface_synthesis
