@@ -118,8 +118,6 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       level_metrics.push_back({{"vertices", pyramid[k].mesh.num_vertices()},
                                {"triangles", pyramid[k].mesh.num_triangles()},
                                {"spacing", pyramid[k].spacing}});
-      log::info(log::cat("level ", k, ": ", pyramid[k].mesh.num_vertices(), " vertices, ",
-                         pyramid[k].mesh.num_triangles(), " triangles, d = ", pyramid[k].spacing));
     }
     report.metric("levels", level_metrics);
   }
