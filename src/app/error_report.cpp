@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/input_file.hpp"
+#include "core/log.hpp"
 #include "core/memory_budget.hpp"
 
 #include <chrono>
@@ -84,7 +85,7 @@ int ErrorReport::finish(const std::exception_ptr& error) const {
   const Failure failure = describe(error, world_.rank);
   const std::string message = with_long_words_shortened(failure.message);
   if (!every_rank_failed(agreement_)) {
-    std::cerr << "texsim: error on rank " << world_.rank << ": " << message << std::endl;
+    log::error_line(log::cat("texsim: error on rank ", world_.rank, ": ", message));
     MPI_Abort(world_.raw, failure.exit_code);
   }
   // Every rank is here: the lowest rank with the worst failure speaks for all.
@@ -94,7 +95,7 @@ int ErrorReport::finish(const std::exception_ptr& error) const {
   int speaker = 0;
   MPI_Allreduce(&candidate, &speaker, 1, MPI_INT, MPI_MIN, agreement_);
   if (world_.rank == speaker)
-    std::cerr << "texsim: error: " << message << std::endl;
+    log::error_line("texsim: error: " + message);
   return worst;
 }
 

@@ -1,5 +1,6 @@
 #include "core/log.hpp"
 
+#include <cstdio>
 #include <iostream>
 
 namespace texsim::log {
@@ -22,9 +23,15 @@ void info(const std::string& line) {
     std::cout << line << std::endl;
 }
 
+void error_line(const std::string& line) {
+  const std::string whole = line + "\n";
+  std::fwrite(whole.data(), 1, whole.size(), stderr);
+  std::fflush(stderr);
+}
+
 void warn(const std::string& line) {
   if (g_rank == 0)
-    std::cerr << "warning: " << line << std::endl;
+    error_line("warning: " + line);
 }
 
 } // namespace texsim::log

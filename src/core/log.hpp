@@ -14,6 +14,11 @@ bool info_enabled();
 /// One line on stdout, rank 0 only.
 void info(const std::string& line);
 
+/// `line` and a newline on stderr in one write: mpirun forwards stdout and stderr separately, and a
+/// line written in pieces can be cut by another rank's output (the bad-input corpus saw the banner
+/// land inside "texsim: error: ..."). Any rank.
+void error_line(const std::string& line);
+
 /// One line on stderr prefixed "warning: ", rank 0 only, even with --quiet.
 void warn(const std::string& line);
 
