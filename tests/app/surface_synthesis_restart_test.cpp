@@ -1,7 +1,7 @@
 // surface_synthesis restarts through the binary: a run SIGKILLed after a checkpoint taken between
 // two colour classes, resumed at 1 rank and (a copy of it) at 2 ranks, ends with the checkpoint and
 // atlas.png of the run that was never killed, byte for byte; a restart with another config is
-// refused with exit code 2.
+// refused with exit code 2; and 1 and 2 OpenMP threads write the same bytes.
 #include "support/output_files.hpp"
 #include "support/run_command.hpp"
 
@@ -29,8 +29,9 @@ fs::path scratch(const std::string& name) {
 }
 
 /// config/surface_synthesis/smoke.yaml with a checkpoint every kEvery classes, all kept.
-std::string smoke_run(int ranks, const fs::path& out, const std::string& extra = "") {
-  return texsim::test::texsim_under_mpirun(ranks) + " " +
+std::string smoke_run(int ranks, const fs::path& out, const std::string& extra = "",
+                      const std::string& mpirun_options = "") {
+  return texsim::test::texsim_under_mpirun(ranks, mpirun_options) + " " +
          (kSource / "config/surface_synthesis/smoke.yaml").string() +
          " --quiet --set checkpoint.every=" + std::to_string(kEvery) +
          " --set checkpoint.keep=100000 --set output.dir=" + out.string() + " " + extra;
@@ -86,6 +87,22 @@ TEST(SurfaceSynthesisRestart, ARestartWithAnotherConfigIsRefused) {
       smoke_run(1, dir / "run", "--restart --set surface_synthesis.vertices=1600"), kSource);
   EXPECT_EQ(changed.exit_code, 2) << changed.output;
   EXPECT_NE(changed.output.find("config"), std::string::npos) << changed.output;
+}
+
+TEST(SurfaceSynthesisRestart, OneAndTwoThreadsWriteTheSameBytes) {
+  const auto dir = scratch("threads");
+  for (const int threads : {1, 2}) {
+    const auto run = texsim::test::run_command(
+        smoke_run(1, dir / std::to_string(threads), "",
+                  "--bind-to none -x OMP_NUM_THREADS=" + std::to_string(threads)),
+        kSource);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+  }
+  const auto files = texsim::test::files_under(dir / "1");
+  ASSERT_GE(files.size(), 10u) << "levels, surface, atlas, checkpoints";
+  EXPECT_EQ(differing_files(dir / "1", dir / "2",
+                            [](const std::string& file) { return file != "summary.json"; }),
+            std::vector<std::string>{});
 }
 
 } // namespace
