@@ -122,6 +122,8 @@ void BackgroundCommand::signal_children(int signal_number) {
 }
 
 void BackgroundCommand::signal_group(int signal_number) {
+  // Open MPI puts each rank in a process group of its own: signal the ranks by parentage first.
+  signal_children(signal_number);
   kill(-pid_, signal_number);
 }
 

@@ -26,8 +26,8 @@ std::string texsim_under_mpirun(int ranks, const std::string& mpirun_options = "
 
 /// A command started in the background (same clean environment as run_command), so a test can
 /// watch its output and send it signals as a scheduler would. The shell execs the command, so
-/// signals reach it (e.g. mpirun) directly; it leads a process group of its own, which holds
-/// mpirun's ranks too. Not collective.
+/// signals reach it (e.g. mpirun) directly; it leads a process group of its own (Open MPI's ranks
+/// are not in it: each rank leads a group of its own). Not collective.
 class BackgroundCommand {
 public:
   explicit BackgroundCommand(const std::string& command, const std::filesystem::path& working_dir =
@@ -42,7 +42,8 @@ public:
   void signal_command(int signal_number);
   /// To the command's child processes (mpirun's ranks, as Slurm and PBS signal a job's tasks).
   void signal_children(int signal_number);
-  /// To every process of its group (mpirun and its ranks, as a job's SIGKILL does).
+  /// To the command's children (the ranks) and then its whole group, as a job's SIGKILL reaches
+  /// every task: without the first, a killed mpirun's ranks run on until they notice it is gone.
   void signal_group(int signal_number);
   /// Reads the rest of the output and waits for the command to end.
   CommandOutcome finish();
