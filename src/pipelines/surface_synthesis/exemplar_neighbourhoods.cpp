@@ -8,8 +8,7 @@
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// Whether every pixel `offsets` read around (x, y), or around (x / 2, y / 2) on `coarse`, lies
-/// inside.
+/// Whether the pixels the piecewise-linear interpolation reads at (x, y) all lie inside `image`.
 bool inside(const img::RgbImage& image, double x, double y) {
   const double x0 = std::floor(x), y0 = std::floor(y);
   const double x1 = x0 + (x > x0 ? 1 : 0), y1 = y0 + (y > y0 ? 1 : 0);

@@ -8,7 +8,6 @@
 #include "vol/procedural_exemplars.hpp"
 
 #include <cmath>
-#include <string_view>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {

@@ -59,9 +59,7 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
     const auto& d = directions[std::size_t(v)];
     s.insert(s.end(), {d.x(), d.y(), d.z()});
     ids.push_back(v);
-    owner.push_back(
-        std::int32_t(std::upper_bound(retiled.rank_offsets.begin(), retiled.rank_offsets.end(), v) -
-                     retiled.rank_offsets.begin() - 1));
+    owner.push_back(owner_of(retiled.rank_offsets, v));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};
   piece.point_fields = {{"color", 3, std::span<const double>(colour)},

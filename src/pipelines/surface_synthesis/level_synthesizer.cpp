@@ -12,7 +12,6 @@ namespace texsim::pipelines::surface_synthesis {
 
 struct LevelSynthesizer::PassData {
   Pass pass;
-  bool read_current;
   ExemplarNeighbourhoods exemplar;
   std::unique_ptr<NeighbourhoodSearch> search;
   std::unique_ptr<NeighbourhoodSearch> exact; ///< for the metric when `search` is approximate
@@ -33,12 +32,6 @@ struct ColourUpdate {
 
 /// Queries per search call (the exhaustive scan's register blocking takes 8 at a time).
 constexpr std::size_t kBatch = 16;
-
-int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
-  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
-             rank_offsets.begin()) -
-         1;
-}
 
 void add_sample(const SampleWeights& sample, std::span<const img::Rgb> colours,
                 const img::Rgb& uncovered, double* out) {
@@ -78,7 +71,6 @@ LevelSynthesizer::LevelSynthesizer(const par::Comm& comm, const LevelStencils& s
     }
     auto data = std::make_unique<PassData>();
     data->pass = pass;
-    data->read_current = pass == Pass::refine;
     data->exemplar = exemplar_neighbourhoods(pyramid, level, used, pass, border);
     if (method == SearchMethod::tsvq)
       data->exact = make_neighbourhood_search(SearchMethod::pruned, data->exemplar.table);
@@ -121,7 +113,7 @@ void LevelSynthesizer::query(const PassData& data, std::int64_t local, const Lev
                              const LevelColours* coarser, std::vector<double>& out) const {
   out.resize(std::size_t(data.search->dimension()));
   double* value = out.data();
-  if (data.read_current)
+  if (data.pass == Pass::refine)
     for (const auto& sample : stencils_.current_of(local)) {
       add_sample(sample, current.colours, current_mean_, value);
       value += 3;

@@ -7,7 +7,9 @@
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
+#include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::surface_synthesis {
@@ -48,6 +50,13 @@ struct RetiledLevel {
 /// and boundary: the message gives the level, its vertex count and what was found. Every rank gets
 /// the same bytes for any rank or thread count (SurfaceCells ids do not depend on them).
 /// Collective over comm; every rank passes the same surface.
+/// The rank owning vertex `id` of a level split into the runs `rank_offsets` (RetiledLevel).
+inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
+  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
+             rank_offsets.begin()) -
+         1;
+}
+
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings);
