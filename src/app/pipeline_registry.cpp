@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "pipelines/fem_rd/fem_rd_pipeline.hpp"
+#include "pipelines/fluid_lapped/fluid_lapped_pipeline.hpp"
 #include "pipelines/mesh_prep/mesh_prep_pipeline.hpp"
 #include "pipelines/solid_synthesis/solid_synthesis_pipeline.hpp"
 #include "pipelines/surface_synthesis/surface_synthesis_pipeline.hpp"
@@ -17,6 +18,8 @@ using Factory = std::function<std::unique_ptr<pipelines::Pipeline>()>;
 const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> entries = {
       {"fem_rd", [] { return std::make_unique<pipelines::fem_rd::FemRdPipeline>(); }},
+      {"fluid_lapped",
+       [] { return std::make_unique<pipelines::fluid_lapped::FluidLappedPipeline>(); }},
       {"mesh_prep", [] { return std::make_unique<pipelines::mesh_prep::MeshPrepPipeline>(); }},
       {"solid_synthesis",
        [] { return std::make_unique<pipelines::solid_synthesis::SolidSynthesisPipeline>(); }},

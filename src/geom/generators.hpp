@@ -1,6 +1,7 @@
 #pragma once
-/// Synthetic test surfaces: sphere, torus, box, and a noisy copy of any mesh. All closed, manifold
-/// and outward-oriented. Serial and deterministic.
+/// Synthetic test surfaces: sphere, torus, box, a flat square, and a noisy copy of any mesh. All
+/// manifold and outward-oriented (the square faces +z); all but the square are closed. Serial and
+/// deterministic.
 #include "geom/triangle_mesh.hpp"
 
 #include <cstdint>
@@ -23,6 +24,13 @@ TriangleMesh torus(double major, double minor, int n_major, int n_minor);
 /// 6 n^2 + 2 vertices, 12 n^2 triangles. Needs size > 0 componentwise and
 /// 1 <= cells_per_edge <= 4096.
 TriangleMesh box(const Vec3& size, int cells_per_edge);
+
+/// The square [0, size.x] x [0, size.y] in the plane z = 0, a regular grid of cells_per_edge x
+/// cells_per_edge cells, each split into two triangles along the same diagonal, facing +z:
+/// (n + 1)^2 vertices in row-major order (x fastest), 2 n^2 triangles. An open surface with one
+/// boundary loop: the flat fluid sheet of analytic flows. Needs size.x, size.y > 0 and
+/// 1 <= cells_per_edge <= 4096.
+TriangleMesh plane(const Vec3& size, int cells_per_edge);
 
 /// CounterRng stream used by noisy().
 inline constexpr std::uint32_t kNoisyMeshStream = 0x4e01;

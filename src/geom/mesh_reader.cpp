@@ -183,8 +183,10 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const MeshRepairOption
   return mesh;
 }
 
-VertexFields read_vertex_fields(const std::filesystem::path& path,
-                                const std::vector<std::string>& names) {
+namespace {
+
+/// The triangles of a .vtk/.vtp/.vtu file and its point data, for reading named arrays.
+vtkSmartPointer<vtkPolyData> read_surface_with_arrays(const std::filesystem::path& path) {
   const auto ext = lower_extension(path);
   // VTK's PLY reader keeps only colours, normals and texture coordinates: no named arrays.
   if (ext != ".vtk" && ext != ".vtp" && ext != ".vtu") {
@@ -193,30 +195,58 @@ VertexFields read_vertex_fields(const std::filesystem::path& path,
                                      << ext << "'");
   }
   require_file(path);
-  const auto triangles = read_vtk_triangles(path, ext);
-  VertexFields fields{to_triangle_mesh(triangles, path), {}};
-  if (fields.mesh.triangles.empty()) {
+  return read_vtk_triangles(path, ext);
+}
+
+/// Point array `name` with `components` values per point, checked finite.
+std::vector<double> point_array(const std::filesystem::path& path, vtkPointData* data,
+                                const std::string& name, int components) {
+  vtkDataArray* array = data->GetArray(name.c_str());
+  if (array == nullptr || array->GetNumberOfComponents() != components) {
+    TEXSIM_INPUT_ERROR(path.string() << ": no " << (components == 1 ? "one" : "three")
+                                     << "-component point array '" << name
+                                     << "'; the file's point arrays: " << array_names(data));
+  }
+  std::vector<double> values(std::size_t(array->GetNumberOfTuples()) * std::size_t(components));
+  for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+    for (int c = 0; c < components; ++c) {
+      const double value = array->GetComponent(i, c);
+      if (!std::isfinite(value)) {
+        TEXSIM_INPUT_ERROR(path.string() << ": point array '" << name << "' holds " << value
+                                         << " at point " << i << "; expected finite values");
+      }
+      values[std::size_t(i) * std::size_t(components) + std::size_t(c)] = value;
+    }
+  return values;
+}
+
+TriangleMesh surface_of(const vtkSmartPointer<vtkPolyData>& triangles,
+                        const std::filesystem::path& path) {
+  auto mesh = to_triangle_mesh(triangles, path);
+  if (mesh.triangles.empty()) {
     TEXSIM_INPUT_ERROR(path.string() << ": no triangles; expected a triangle surface");
   }
-  vtkPointData* data = triangles->GetPointData();
-  for (const auto& name : names) {
-    vtkDataArray* array = data->GetArray(name.c_str());
-    if (array == nullptr || array->GetNumberOfComponents() != 1) {
-      TEXSIM_INPUT_ERROR(path.string() << ": no one-component point array '" << name
-                                       << "'; the file's point arrays: " << array_names(data));
-    }
-    std::vector<double> values(std::size_t(array->GetNumberOfTuples()));
-    for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i) {
-      values[std::size_t(i)] = array->GetTuple1(i);
-      if (!std::isfinite(values[std::size_t(i)])) {
-        TEXSIM_INPUT_ERROR(path.string()
-                           << ": point array '" << name << "' holds " << values[std::size_t(i)]
-                           << " at point " << i << "; expected finite values");
-      }
-    }
-    fields.values.push_back(std::move(values));
-  }
+  return mesh;
+}
+
+} // namespace
+
+VertexFields read_vertex_fields(const std::filesystem::path& path,
+                                const std::vector<std::string>& names) {
+  const auto triangles = read_surface_with_arrays(path);
+  VertexFields fields{surface_of(triangles, path), {}};
+  for (const auto& name : names)
+    fields.values.push_back(point_array(path, triangles->GetPointData(), name, 1));
   return fields;
+}
+
+VertexVectors read_vertex_vectors(const std::filesystem::path& path, const std::string& name) {
+  const auto triangles = read_surface_with_arrays(path);
+  VertexVectors vectors{surface_of(triangles, path), {}};
+  const auto values = point_array(path, triangles->GetPointData(), name, 3);
+  for (std::size_t i = 0; i + 2 < values.size(); i += 3)
+    vectors.values.emplace_back(values[i], values[i + 1], values[i + 2]);
+  return vectors;
 }
 
 } // namespace texsim::geom

@@ -34,4 +34,14 @@ struct VertexFields {
 VertexFields read_vertex_fields(const std::filesystem::path& path,
                                 const std::vector<std::string>& names);
 
+/// A surface with one 3-component point array (a velocity, such as OpenFOAM's U), as stored.
+struct VertexVectors {
+  TriangleMesh mesh;
+  std::vector<Vec3> values; ///< per vertex of mesh
+};
+
+/// The 3-component point array `name` of a .vtp, .vtu or .vtk file, with the file's triangles.
+/// Throws texsim::InputError naming the file as read_vertex_fields() does.
+VertexVectors read_vertex_vectors(const std::filesystem::path& path, const std::string& name);
+
 } // namespace texsim::geom

@@ -16,7 +16,7 @@ MeshSource read_mesh_source(const ConfigSection& section) {
   const bool has_generator = section.has("generator");
   if (has_file == has_generator)
     section.fail(has_file ? "generator" : "file",
-                 "exactly one of file (a mesh file) and generator (icosphere, torus, box)");
+                 "exactly one of file (a mesh file) and generator (icosphere, torus, box, plane)");
   if (has_file) {
     source.file = section.require<std::string>("file");
     if (!std::filesystem::is_regular_file(source.file))
@@ -25,7 +25,8 @@ MeshSource read_mesh_source(const ConfigSection& section) {
     source.generator = section.choice<MeshGenerator>("generator", MeshGenerator::kIcosphere,
                                                      {{"icosphere", MeshGenerator::kIcosphere},
                                                       {"torus", MeshGenerator::kTorus},
-                                                      {"box", MeshGenerator::kBox}});
+                                                      {"box", MeshGenerator::kBox},
+                                                      {"plane", MeshGenerator::kPlane}});
   }
   source.icosphere_level = section.get<int>("level", source.icosphere_level, int_in_range(0, 9));
   source.radius = section.get<double>("radius", source.radius, positive());
@@ -87,6 +88,8 @@ TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
                  source.torus_segments[1]);
   case MeshGenerator::kBox:
     return box(source.box_size, source.box_cells_per_edge);
+  case MeshGenerator::kPlane:
+    return plane(source.box_size, source.box_cells_per_edge);
   }
   TEXSIM_VERIFY(false, "unhandled mesh generator");
 }

@@ -18,18 +18,18 @@
 
 namespace texsim::geom {
 
-enum class MeshGenerator { kNone, kIcosphere, kTorus, kBox };
+enum class MeshGenerator { kNone, kIcosphere, kTorus, kBox, kPlane };
 
 struct MeshSource {
   std::filesystem::path file;                     ///< file: a mesh file (when generator is kNone)
-  MeshGenerator generator = MeshGenerator::kNone; ///< generator: icosphere, torus or box
+  MeshGenerator generator = MeshGenerator::kNone; ///< generator: icosphere, torus, box or plane
   int icosphere_level = 3;                        ///< level (icosphere)
   double radius = 1.0;                            ///< radius (icosphere)
   double major_radius = 1.0;                      ///< major_radius (torus)
   double minor_radius = 0.35;                     ///< minor_radius (torus)
   std::array<int, 2> torus_segments{48, 24};      ///< segments: around the axis, around the tube
-  Vec3 box_size{1.0, 1.0, 1.0};                   ///< size (box)
-  int box_cells_per_edge = 8;                     ///< cells_per_edge (box)
+  Vec3 box_size{1.0, 1.0, 1.0};                   ///< size (box; plane: x and y)
+  int box_cells_per_edge = 8;                     ///< cells_per_edge (box, plane)
   double scale = 1.0; ///< scale: factor on every coordinate (sets the pattern size of RD runs)
   int subdivision_levels = 0;   ///< subdivision_levels: Loop subdivision steps
   double noise_amplitude = 0.0; ///< noise_amplitude: times the mean edge length

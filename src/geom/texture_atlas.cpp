@@ -430,9 +430,10 @@ bool square_meets_triangle(const Vec2& p, double half, const std::array<Vec2, 3>
   return true;
 }
 
-/// The texels of one chart (its triangles in increasing id order), in any order.
+/// The texels of one chart (its triangles in increasing id order) inside `clip`, in any order.
 std::vector<AtlasTexel> chart_texels(const TextureAtlas& atlas,
-                                     std::span<const std::int32_t> triangles) {
+                                     std::span<const std::int32_t> triangles,
+                                     const TexelRect& clip) {
   const int resolution = atlas.resolution;
   const double gutter = atlas.gutter;
   // Texel (x, y) has its centre at (x + 0.5, resolution - y - 0.5) in texel units with v up.
@@ -443,12 +444,11 @@ std::vector<AtlasTexel> chart_texels(const TextureAtlas& atlas,
       box.extend(texel_space(uv));
     }
   }
-  const int x0 = std::max(0, static_cast<int>(std::ceil(box.min().x() - gutter - 0.5)));
-  const int x1 =
-      std::min(resolution - 1, static_cast<int>(std::floor(box.max().x() + gutter - 0.5)));
+  const int x0 = std::max(clip.x0, static_cast<int>(std::ceil(box.min().x() - gutter - 0.5)));
+  const int x1 = std::min(clip.x1 - 1, static_cast<int>(std::floor(box.max().x() + gutter - 0.5)));
   const int y0 =
-      std::max(0, static_cast<int>(std::ceil(resolution - 0.5 - box.max().y() - gutter)));
-  const int y1 = std::min(resolution - 1,
+      std::max(clip.y0, static_cast<int>(std::ceil(resolution - 0.5 - box.max().y() - gutter)));
+  const int y1 = std::min(clip.y1 - 1,
                           static_cast<int>(std::floor(resolution - 0.5 - box.min().y() + gutter)));
   if (x1 < x0 || y1 < y0) {
     return {};
@@ -510,25 +510,44 @@ std::vector<AtlasTexel> chart_texels(const TextureAtlas& atlas,
 
 } // namespace
 
-std::vector<AtlasTexel> atlas_texels(const TriangleMesh& mesh, const TextureAtlas& atlas) {
+AtlasTexelIndex::AtlasTexelIndex(const TriangleMesh& mesh, const TextureAtlas& atlas)
+    : atlas_(atlas), charts_(std::size_t(atlas.chart_count)) {
   TEXSIM_VERIFY(atlas.corner_uv.size() == mesh.triangles.size() &&
                     atlas.chart_of_triangle.size() == mesh.triangles.size(),
                 "atlas_texels: the atlas has " << atlas.corner_uv.size() << " triangles, the mesh "
                                                << mesh.triangles.size());
-  std::vector<std::vector<std::int32_t>> charts(atlas.chart_count);
-  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    charts[atlas.chart_of_triangle[t]].push_back(t);
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t)
+    charts_[std::size_t(atlas.chart_of_triangle[std::size_t(t)])].push_back(t);
+  // Each chart's texel box grown by the gutter: the texels it may claim.
+  for (const auto& chart : charts_) {
+    Eigen::AlignedBox2d box;
+    for (const std::int32_t t : chart)
+      for (const Vec2& uv : atlas.corner_uv[std::size_t(t)])
+        box.extend(Vec2(uv * atlas.resolution));
+    const double g = atlas.gutter + 1.0;
+    chart_boxes_.push_back({int(std::floor(box.min().x() - g)),
+                            int(std::floor(atlas.resolution - box.max().y() - g)),
+                            int(std::ceil(box.max().x() + g)) + 1,
+                            int(std::ceil(atlas.resolution - box.min().y() + g)) + 1});
   }
-  std::vector<std::vector<AtlasTexel>> per_chart(charts.size());
-  const auto count = static_cast<std::int64_t>(charts.size());
+}
+
+std::vector<AtlasTexel> AtlasTexelIndex::texels_in(const TexelRect& rect) const {
+  std::vector<std::int32_t> touching;
+  for (std::size_t c = 0; c < charts_.size(); ++c) {
+    const auto& box = chart_boxes_[c];
+    if (box.x0 < rect.x1 && rect.x0 < box.x1 && box.y0 < rect.y1 && rect.y0 < box.y1)
+      touching.push_back(std::int32_t(c));
+  }
+  std::vector<std::vector<AtlasTexel>> per_chart(touching.size());
+  const auto count = static_cast<std::int64_t>(touching.size());
 #pragma omp parallel for schedule(dynamic)
-  for (std::int64_t c = 0; c < count; ++c) {
-    per_chart[c] = chart_texels(atlas, charts[c]);
-  }
+  for (std::int64_t i = 0; i < count; ++i)
+    per_chart[std::size_t(i)] =
+        chart_texels(atlas_, charts_[std::size_t(touching[std::size_t(i)])], rect);
   std::vector<AtlasTexel> texels;
-  for (auto& chart : per_chart) {
+  for (auto& chart : per_chart)
     texels.insert(texels.end(), chart.begin(), chart.end());
-  }
   std::sort(texels.begin(), texels.end(), [](const AtlasTexel& a, const AtlasTexel& b) {
     return std::tie(a.y, a.x) < std::tie(b.y, b.x);
   });
@@ -538,6 +557,10 @@ std::vector<AtlasTexel> atlas_texels(const TriangleMesh& mesh, const TextureAtla
                                           << ") claimed by two charts");
   }
   return texels;
+}
+
+std::vector<AtlasTexel> atlas_texels(const TriangleMesh& mesh, const TextureAtlas& atlas) {
+  return AtlasTexelIndex(mesh, atlas).texels_in({0, 0, atlas.resolution, atlas.resolution});
 }
 
 } // namespace texsim::geom

@@ -66,6 +66,11 @@ struct AtlasTexel {
   std::array<double, 3> weights{};
 };
 
+/// A rectangle of texels: columns [x0, x1), rows [y0, y1) (row 0 at the top).
+struct TexelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 /// Every texel the atlas uses, sorted by row then column, each once: a texel whose centre lies in
 /// a uv triangle shows that point (on an edge shared by several: the lowest triangle id); a gutter
 /// texel (centre outside its chart but within `gutter` texels of it, max-norm) shows the chart
@@ -73,5 +78,21 @@ struct AtlasTexel {
 /// the caller continue each chart without bleeding into the next. `atlas` must come from
 /// build_texture_atlas(mesh, ...). Deterministic; serial.
 std::vector<AtlasTexel> atlas_texels(const TriangleMesh& mesh, const TextureAtlas& atlas);
+
+/// atlas_texels() a rectangle at a time, so memory follows the rectangle (a tile of a large atlas)
+/// rather than the whole atlas: texels_in(rect) gives exactly the texels of atlas_texels() that lie
+/// in `rect`, with the same triangles and weights, in the same order. Keeps a copy of the atlas
+/// and each chart's triangles and texel box. texels_in() is const (OpenMP over the charts that
+/// touch the rectangle).
+class AtlasTexelIndex {
+public:
+  AtlasTexelIndex(const TriangleMesh& mesh, const TextureAtlas& atlas);
+  std::vector<AtlasTexel> texels_in(const TexelRect& rect) const;
+
+private:
+  TextureAtlas atlas_;
+  std::vector<std::vector<std::int32_t>> charts_; ///< triangles of each chart, increasing ids
+  std::vector<TexelRect> chart_boxes_;            ///< texels each chart may claim (a superset)
+};
 
 } // namespace texsim::geom

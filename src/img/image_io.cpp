@@ -21,6 +21,7 @@
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkUnsignedShortArray.h>
 
 namespace texsim::img {
 namespace {
@@ -178,6 +179,33 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
   }
   data->GetPointData()->SetScalars(scalars);
 
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    vtkNew<vtkPNGWriter> writer;
+    capture.watch(writer);
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(data);
+    writer->Write();
+    TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
+                  path.string() << ": cannot write PNG: " << capture.errors());
+  });
+}
+
+void write_png16(const std::filesystem::path& path, std::span<const std::uint16_t> values,
+                 int width, int height) {
+  TEXSIM_VERIFY(width > 0 && height > 0 && values.size() == std::size_t(width) * height,
+                path.string() << ": " << values.size() << " grey values for a " << width << " x "
+                              << height << " PNG");
+  vtkNew<vtkImageData> data;
+  data->SetDimensions(width, height, 1);
+  vtkNew<vtkUnsignedShortArray> scalars;
+  scalars->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  // VTK's rows run bottom to top.
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i)
+      scalars->SetValue(static_cast<vtkIdType>(j) * width + i,
+                        values[std::size_t(height - 1 - j) * std::size_t(width) + std::size_t(i)]);
+  data->GetPointData()->SetScalars(scalars);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     vtk::ErrorCapture capture;
     vtkNew<vtkPNGWriter> writer;

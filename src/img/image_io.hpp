@@ -2,7 +2,9 @@
 /// PNG and JPEG images through VTK's readers and writer.
 #include "img/image.hpp"
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 
 namespace texsim::img {
 
@@ -18,6 +20,12 @@ RgbImage read_image(const std::filesystem::path& path);
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
 /// The value read back after write_png: each channel clamped and rounded to a multiple of 1/255.
+/// Writes `values` (row-major, row 0 at the top) as a 16-bit grey PNG, atomically: a height or
+/// displacement image for renderers, 65535 levels instead of 255. Throws texsim::Error naming the
+/// file if it cannot be written.
+void write_png16(const std::filesystem::path& path, std::span<const std::uint16_t> values,
+                 int width, int height);
+
 RgbImage quantize_8bit(const RgbImage& image);
 
 } // namespace texsim::img

@@ -19,6 +19,7 @@ std::string piece_file_name(const std::string& basename, int rank, SurfaceFormat
 /// Names, components and types of the fields, to check that all ranks declare the same arrays.
 std::string field_signature(const SurfacePiece& piece) {
   std::string signature;
+  signature += "t:" + piece.texture_coordinates + ";";
   for (const auto& field : piece.point_fields)
     signature += "p:" + field.name + ":" + std::to_string(field.components) + ":" +
                  field.vtk_type_name() + ";";
@@ -29,8 +30,12 @@ std::string field_signature(const SurfacePiece& piece) {
 }
 
 void write_array_declarations(std::ostringstream& xml, const char* tag,
-                              const std::vector<DataField>& fields) {
-  xml << "    <" << tag << ">\n";
+                              const std::vector<DataField>& fields,
+                              const std::string& texture_coordinates = "") {
+  xml << "    <" << tag
+      << (texture_coordinates.empty() ? std::string()
+                                      : " TCoords=\"" + xml_escape(texture_coordinates) + "\"")
+      << ">\n";
   for (const auto& field : fields)
     xml << "      <PDataArray type=\"" << field.vtk_type_name() << "\" Name=\""
         << xml_escape(field.name) << "\" NumberOfComponents=\"" << field.components << "\"/>\n";
@@ -46,7 +51,7 @@ std::string parallel_header(const SurfacePiece& piece, const std::string& basena
       << "<VTKFile type=\"" << type
       << "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       << "  <" << type << " GhostLevel=\"0\">\n";
-  write_array_declarations(xml, "PPointData", piece.point_fields);
+  write_array_declarations(xml, "PPointData", piece.point_fields, piece.texture_coordinates);
   write_array_declarations(xml, "PCellData", piece.cell_fields);
   xml << "    <PPoints>\n"
       << "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"

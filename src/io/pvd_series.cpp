@@ -106,6 +106,15 @@ PvdSeries::PvdSeries(const par::Comm& comm, std::filesystem::path path, std::vec
   rewrite();
 }
 
+std::vector<PvdSeries::Entry> PvdSeries::read_entries(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    TEXSIM_INPUT_ERROR(path.string() << ": cannot open the ParaView collection (.pvd)");
+  std::ostringstream contents;
+  contents << in.rdbuf();
+  return parse_collection(contents.str(), path);
+}
+
 PvdSeries PvdSeries::resume(const par::Comm& comm, std::filesystem::path path,
                             double restart_time) {
   const std::string xml = read_on_root(comm, path);

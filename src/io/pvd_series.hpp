@@ -32,6 +32,11 @@ public:
   /// (time, part). Collective: call on every rank with the same arguments.
   void add(double time, const std::string& relative_file, int part = 0);
 
+  /// The entries of the collection at `path`, in file order (a reader of simulator output
+  /// series, not only of texsim's). Serial. InputError naming the file when it is missing,
+  /// unreadable or malformed.
+  static std::vector<Entry> read_entries(const std::filesystem::path& path);
+
   const std::vector<Entry>& entries() const { return entries_; }
   const std::filesystem::path& path() const { return path_; }
 

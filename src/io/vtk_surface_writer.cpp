@@ -1,5 +1,7 @@
 #include "io/vtk_surface_writer.hpp"
 
+#include "io/vtk_data_array.hpp"
+
 #include "core/atomic_output.hpp"
 #include "core/error.hpp"
 #include "vtk/error_capture.hpp"
@@ -26,29 +28,6 @@
 namespace texsim::io {
 namespace {
 
-/// The VTK array class that stores T with T's own type: Float64, Int32 or Int64 in the file.
-template <class T> struct VtkArrayOf;
-template <> struct VtkArrayOf<double> { using type = vtkDoubleArray; };
-template <> struct VtkArrayOf<std::int32_t> { using type = vtkTypeInt32Array; };
-template <> struct VtkArrayOf<std::int64_t> { using type = vtkTypeInt64Array; };
-
-template <class T>
-vtkSmartPointer<vtkDataArray> to_vtk_array(const std::string& name, int components,
-                                           std::span<const T> values) {
-  auto array = vtkSmartPointer<typename VtkArrayOf<T>::type>::New();
-  array->SetName(name.c_str());
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
-
-vtkSmartPointer<vtkDataArray> to_vtk_array(const DataField& field) {
-  return std::visit(
-      [&](const auto& values) { return to_vtk_array(field.name, field.components, values); },
-      field.values);
-}
-
 vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
   static_assert(sizeof(vtkIdType) == sizeof(std::int64_t), "VTK must use 64-bit ids");
   const auto count = static_cast<vtkIdType>(triangles.size() / 3);
@@ -65,8 +44,13 @@ vtkNew<vtkCellArray> to_vtk_triangles(std::span<const std::int64_t> triangles) {
 }
 
 void add_fields(vtkDataSet& data, const SurfacePiece& piece) {
-  for (const auto& field : piece.point_fields)
-    data.GetPointData()->AddArray(to_vtk_array(field));
+  for (const auto& field : piece.point_fields) {
+    const auto array = to_vtk_array(field);
+    if (field.name == piece.texture_coordinates)
+      data.GetPointData()->SetTCoords(array);
+    else
+      data.GetPointData()->AddArray(array);
+  }
   for (const auto& field : piece.cell_fields)
     data.GetCellData()->AddArray(to_vtk_array(field));
 }
@@ -111,13 +95,21 @@ void check_surface_piece(const SurfacePiece& piece) {
     check(field, piece.point_count(), "point");
   for (const auto& field : piece.cell_fields)
     check(field, piece.triangle_count(), "cell");
+  if (!piece.texture_coordinates.empty()) {
+    const auto named = std::find_if(
+        piece.point_fields.begin(), piece.point_fields.end(),
+        [&](const DataField& field) { return field.name == piece.texture_coordinates; });
+    TEXSIM_VERIFY(named != piece.point_fields.end() && named->components == 2,
+                  "surface piece: texture coordinates '" << piece.texture_coordinates
+                                                         << "' are not a 2-component point field");
+  }
 }
 
 void write_surface(const std::filesystem::path& path, const SurfacePiece& piece,
                    SurfaceFormat format) {
   check_surface_piece(piece);
   vtkNew<vtkPoints> points;
-  points->SetData(to_vtk_array("Points", 3, piece.xyz));
+  points->SetData(to_vtk_array(DataField{"Points", 3, piece.xyz}));
   const auto triangles = to_vtk_triangles(piece.triangles);
   if (format == SurfaceFormat::vtp) {
     vtkNew<vtkPolyData> surface;

@@ -1,0 +1,355 @@
+#include "pipelines/fluid_lapped/atlas_compositor.hpp"
+
+#include "core/error.hpp"
+#include "geom/mesh_measures.hpp"
+#include "par/record_exchange.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+namespace texsim::pipelines::fluid_lapped {
+namespace {
+
+using Point2 = Eigen::Vector2d;
+
+/// A patch triangle drawn into one chart: its corners in image coordinates (x right, y down,
+/// texel (x, y) covering [x, x + 1] x [y, y + 1]) with the rest uv and weight at each corner.
+struct MappedTriangle {
+  std::int64_t patch = 0;
+  std::int32_t triangle = 0; ///< index in the patch
+  std::int32_t chart = 0;
+  std::int32_t tile = 0;     ///< the tile this copy is for (routing)
+  double xy[3][2] = {};
+  double uv[3][2] = {};
+  double weight[3] = {};
+};
+
+/// Image coordinates of a surface point q near frame triangle t, through t's affine map into
+/// its chart (q projected into t's plane, barycentric weights not clamped).
+Point2 image_point(const geom::TriangleMesh& frame, const geom::TextureAtlas& atlas,
+                   std::int32_t t, const geom::Vec3& q) {
+  const auto& tri = frame.triangles[std::size_t(t)];
+  const auto w = geom::barycentric_weights(frame.positions[std::size_t(tri[0])],
+                                           frame.positions[std::size_t(tri[1])],
+                                           frame.positions[std::size_t(tri[2])], q);
+  const auto& corner = atlas.corner_uv[std::size_t(t)];
+  const Point2 uv = w[0] * corner[0] + w[1] * corner[1] + w[2] * corner[2];
+  return {uv.x() * atlas.resolution, atlas.resolution * (1.0 - uv.y())};
+}
+
+/// Triangle `index` of `patch` drawn into every chart its corners lie in (charts ascending).
+std::vector<MappedTriangle> map_triangle(const geom::TriangleMesh& frame,
+                                         const geom::TextureAtlas& atlas, const Patch& patch,
+                                         std::size_t index) {
+  const auto& corners = patch.triangles[index];
+  std::vector<MappedTriangle> mapped;
+  for (int c = 0; c < 3; ++c) {
+    const auto surface = patch.surface_triangle[std::size_t(corners[std::size_t(c)])];
+    const auto chart = atlas.chart_of_triangle[std::size_t(surface)];
+    if (std::any_of(mapped.begin(), mapped.end(),
+                    [&](const MappedTriangle& m) { return m.chart == chart; }))
+      continue;
+    MappedTriangle m;
+    m.patch = patch.id;
+    m.triangle = std::int32_t(index);
+    m.chart = chart;
+    for (int k = 0; k < 3; ++k) {
+      const auto v = std::size_t(corners[std::size_t(k)]);
+      const Point2 xy = image_point(frame, atlas, surface, patch.positions[v]);
+      m.xy[k][0] = xy.x();
+      m.xy[k][1] = xy.y();
+      m.uv[k][0] = patch.rest_uv[v].x();
+      m.uv[k][1] = patch.rest_uv[v].y();
+      m.weight[k] = patch.weights[v];
+    }
+    mapped.push_back(m);
+  }
+  std::sort(mapped.begin(), mapped.end(),
+            [](const MappedTriangle& a, const MappedTriangle& b) { return a.chart < b.chart; });
+  return mapped;
+}
+
+/// The sample of `m` at the centre of texel (x, y): nullopt when the centre is outside the
+/// mapped triangle (a degenerate image counts as outside) or the patch texel there is eroded.
+std::optional<TexelSample> sample_at(const MappedTriangle& m, int x, int y,
+                                     const ErosionMask& erosion) {
+  const Point2 a(m.xy[0][0], m.xy[0][1]), b(m.xy[1][0], m.xy[1][1]), c(m.xy[2][0], m.xy[2][1]);
+  const Point2 p(x + 0.5, y + 0.5);
+  const auto orient = [](const Point2& o, const Point2& s, const Point2& t) {
+    return (s.x() - o.x()) * (t.y() - o.y()) - (s.y() - o.y()) * (t.x() - o.x());
+  };
+  const double area = orient(a, b, c);
+  if (std::abs(area) < 1e-12)
+    return std::nullopt;
+  const double beta[3] = {orient(p, b, c) / area, orient(a, p, c) / area, orient(a, b, p) / area};
+  // A small tolerance closes the cracks between neighbouring triangles' images.
+  constexpr double kEdgeTolerance = 1e-9;
+  if (beta[0] < -kEdgeTolerance || beta[1] < -kEdgeTolerance || beta[2] < -kEdgeTolerance)
+    return std::nullopt;
+  Point2 uv = Point2::Zero();
+  double weight = 0;
+  for (int k = 0; k < 3; ++k) {
+    uv += beta[k] * Point2(m.uv[k][0], m.uv[k][1]);
+    weight += beta[k] * m.weight[k];
+  }
+  if (erosion.eroded(uv, weight))
+    return std::nullopt;
+  return TexelSample{m.patch, float(uv.x()), float(uv.y())};
+}
+
+/// Texels whose centres may lie in the image of m: [x0, x1) x [y0, y1).
+geom::TexelRect texel_box(const MappedTriangle& m) {
+  double lo[2] = {m.xy[0][0], m.xy[0][1]}, hi[2] = {lo[0], lo[1]};
+  for (int k = 1; k < 3; ++k)
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = std::min(lo[d], m.xy[k][d]);
+      hi[d] = std::max(hi[d], m.xy[k][d]);
+    }
+  const auto first = [](double v) { return int(std::ceil(v - 0.5 - 1e-9)); };
+  const auto last = [](double v) { return int(std::floor(v - 0.5 + 1e-9)) + 1; };
+  return {first(lo[0]), first(lo[1]), last(hi[0]), last(hi[1])};
+}
+
+} // namespace
+
+AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh& frame,
+                                 const geom::TextureAtlas& atlas, int tile_size,
+                                 const ErosionMask& erosion)
+    : comm_(comm), frame_(frame), atlas_(atlas), index_(frame, atlas),
+      resolution_(atlas.resolution), tile_size_(tile_size), erosion_(erosion) {
+  TEXSIM_VERIFY(tile_size > 0, "atlas tile size must be positive");
+  const int tiles = tile_count_per_side() * tile_count_per_side();
+  for (int t = comm.rank; t < tiles; t += comm.size) {
+    Tile tile;
+    tile.rect = tile_rect(t);
+    const int width = tile.rect.x1 - tile.rect.x0;
+    const auto count = std::size_t(width) * std::size_t(tile.rect.y1 - tile.rect.y0);
+    tile.chart.assign(count, -1);
+    tile.samples.assign(count, TexelSample{kUnusedTexel, 0, 0});
+    for (const auto& texel : index_.texels_in(tile.rect)) {
+      const auto i = std::size_t(texel.y - tile.rect.y0) * std::size_t(width) +
+                     std::size_t(texel.x - tile.rect.x0);
+      tile.chart[i] = atlas.chart_of_triangle[std::size_t(texel.triangle)];
+      tile.samples[i].patch = kUncoveredTexel;
+    }
+    tiles_.push_back(std::move(tile));
+    tile_ids_.push_back(t);
+  }
+}
+
+geom::TexelRect AtlasCompositor::tile_rect(int tile) const {
+  const int per_side = tile_count_per_side();
+  const int tx = tile % per_side, ty = tile / per_side;
+  return {tx * tile_size_, ty * tile_size_, std::min(resolution_, (tx + 1) * tile_size_),
+          std::min(resolution_, (ty + 1) * tile_size_)};
+}
+
+std::int32_t AtlasCompositor::chart_of_texel(int x, int y) const {
+  const auto texels = index_.texels_in({x, y, x + 1, y + 1});
+  return texels.empty() ? -1 : atlas_.chart_of_triangle[std::size_t(texels.front().triangle)];
+}
+
+void AtlasCompositor::composite(std::span<const Patch> local_patches) {
+  // Route every mapped triangle to the owners of the tiles its texel box touches.
+  std::vector<std::vector<MappedTriangle>> outgoing(std::size_t(comm_.size));
+  const int per_side = tile_count_per_side();
+  for (const auto& patch : local_patches)
+    for (std::size_t i = 0; i < patch.triangles.size(); ++i)
+      for (auto& m : map_triangle(frame_, atlas_, patch, i)) {
+        const auto box = texel_box(m);
+        const int tx0 = std::max(0, box.x0) / tile_size_,
+                  tx1 = (std::min(resolution_, box.x1) - 1) / tile_size_;
+        const int ty0 = std::max(0, box.y0) / tile_size_,
+                  ty1 = (std::min(resolution_, box.y1) - 1) / tile_size_;
+        if (box.x1 <= 0 || box.y1 <= 0 || box.x0 >= resolution_ || box.y0 >= resolution_)
+          continue;
+        for (int ty = ty0; ty <= ty1; ++ty)
+          for (int tx = tx0; tx <= tx1; ++tx) {
+            m.tile = ty * per_side + tx;
+            outgoing[std::size_t(owner_of_tile(m.tile))].push_back(m);
+          }
+      }
+  const auto received = par::exchange_records(comm_, outgoing);
+
+  // Per texel the best (patch, triangle) of this call; commit at the end, so the arrival order
+  // of the records does not matter.
+  struct Best {
+    std::int64_t patch = std::numeric_limits<std::int64_t>::max();
+    std::int32_t triangle = 0;
+    float u = 0, v = 0;
+  };
+  std::map<int, std::vector<Best>> best;
+  std::map<int, std::size_t> local_tile;
+  for (std::size_t i = 0; i < tile_ids_.size(); ++i)
+    local_tile[tile_ids_[i]] = i;
+  for (const auto& m : received) {
+    auto& tile = tiles_[local_tile.at(m.tile)];
+    const int width = tile.rect.x1 - tile.rect.x0;
+    auto& slots = best[m.tile];
+    if (slots.empty())
+      slots.resize(tile.samples.size());
+    const auto box = texel_box(m);
+    for (int y = std::max(box.y0, tile.rect.y0); y < std::min(box.y1, tile.rect.y1); ++y)
+      for (int x = std::max(box.x0, tile.rect.x0); x < std::min(box.x1, tile.rect.x1); ++x) {
+        const auto i = std::size_t(y - tile.rect.y0) * std::size_t(width) +
+                       std::size_t(x - tile.rect.x0);
+        if (tile.samples[i].patch != kUncoveredTexel || tile.chart[i] != m.chart)
+          continue;
+        auto& slot = slots[i];
+        if (std::tie(m.patch, m.triangle) >= std::tie(slot.patch, slot.triangle))
+          continue;
+        if (const auto sample = sample_at(m, x, y, erosion_))
+          slot = {m.patch, m.triangle, sample->u, sample->v};
+      }
+  }
+  for (auto& [tile_id, slots] : best) {
+    auto& tile = tiles_[local_tile.at(tile_id)];
+    for (std::size_t i = 0; i < slots.size(); ++i)
+      if (slots[i].patch != std::numeric_limits<std::int64_t>::max())
+        tile.samples[i] = {slots[i].patch, slots[i].u, slots[i].v};
+  }
+}
+
+std::optional<TexelSample> AtlasCompositor::patch_sample(const Patch& patch, int x, int y) const {
+  const auto chart = chart_of_texel(x, y);
+  if (chart < 0)
+    return std::nullopt;
+  for (std::size_t i = 0; i < patch.triangles.size(); ++i)
+    for (const auto& m : map_triangle(frame_, atlas_, patch, i))
+      if (m.chart == chart)
+        if (const auto sample = sample_at(m, x, y, erosion_))
+          return sample;
+  return std::nullopt;
+}
+
+std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_count) const {
+  // Each rank's first max_count uncovered texels (as linear indices), then the first of all.
+  std::vector<std::int64_t> mine;
+  for (const auto& tile : tiles_) {
+    const int width = tile.rect.x1 - tile.rect.x0;
+    std::size_t found = 0;
+    for (std::size_t i = 0; i < tile.samples.size() && found < max_count; ++i)
+      if (tile.samples[i].patch == kUncoveredTexel) {
+        mine.push_back(std::int64_t(tile.rect.y0 + int(i) / width) * resolution_ +
+                       tile.rect.x0 + int(i) % width);
+        ++found;
+      }
+  }
+  std::sort(mine.begin(), mine.end());
+  if (mine.size() > max_count)
+    mine.resize(max_count);
+  int count = int(mine.size());
+  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
+  for (int r = 1; r < comm_.size; ++r)
+    offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
+  std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
+                 MPI_INT64_T, comm_.raw);
+  std::sort(all.begin(), all.end());
+  if (all.size() > max_count)
+    all.resize(max_count);
+  std::vector<UncoveredTexel> uncovered;
+  for (const auto index : all) {
+    const int x = int(index % resolution_), y = int(index / resolution_);
+    const auto texels = index_.texels_in({x, y, x + 1, y + 1});
+    TEXSIM_VERIFY(texels.size() == 1, "uncovered texel (" << x << ", " << y << ") not in the atlas");
+    const auto& tri = frame_.triangles[std::size_t(texels[0].triangle)];
+    geom::Vec3 position = geom::Vec3::Zero();
+    for (int c = 0; c < 3; ++c)
+      position += texels[0].weights[std::size_t(c)] * frame_.positions[std::size_t(tri[std::size_t(c)])];
+    uncovered.push_back({x, y, {position, texels[0].triangle}});
+  }
+  return uncovered;
+}
+
+void AtlasCompositor::mark_unreachable(int x, int y) {
+  const int per_side = tile_count_per_side();
+  const int tile = (y / tile_size_) * per_side + x / tile_size_;
+  if (owner_of_tile(tile) != comm_.rank)
+    return;
+  const auto at = std::lower_bound(tile_ids_.begin(), tile_ids_.end(), tile);
+  auto& t = tiles_[std::size_t(at - tile_ids_.begin())];
+  auto& sample = t.samples[std::size_t(y - t.rect.y0) * std::size_t(t.rect.x1 - t.rect.x0) +
+                           std::size_t(x - t.rect.x0)];
+  if (sample.patch == kUncoveredTexel)
+    sample.patch = kUnreachableTexel;
+}
+
+std::vector<std::int64_t> AtlasCompositor::winning_patches() const {
+  std::vector<std::int64_t> mine;
+  for (const auto& tile : tiles_)
+    for (const auto& sample : tile.samples)
+      if (sample.patch >= 0)
+        mine.push_back(sample.patch);
+  std::sort(mine.begin(), mine.end());
+  mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+  int count = int(mine.size());
+  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
+  for (int r = 1; r < comm_.size; ++r)
+    offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
+  std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
+                 MPI_INT64_T, comm_.raw);
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  return all;
+}
+
+AtlasCoverage AtlasCompositor::coverage() const {
+  std::int64_t counts[3] = {0, 0, 0};
+  for (const auto& tile : tiles_)
+    for (const auto& sample : tile.samples) {
+      counts[0] += sample.patch != kUnusedTexel;
+      counts[1] += sample.patch >= 0;
+      counts[2] += sample.patch == kUnreachableTexel;
+    }
+  MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_INT64_T, MPI_SUM, comm_.raw);
+  return {counts[0], counts[1], counts[2]};
+}
+
+std::vector<TexelSample> AtlasCompositor::gather(int root) const {
+  std::vector<TexelSample> mine;
+  for (const auto& tile : tiles_)
+    mine.insert(mine.end(), tile.samples.begin(), tile.samples.end());
+  const std::size_t bytes = mine.size() * sizeof(TexelSample);
+  TEXSIM_VERIFY(bytes < std::size_t(INT32_MAX), "atlas tiles of one rank above 2 GiB");
+  const int my_bytes = int(bytes);
+  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
+  MPI_Gather(&my_bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_.raw);
+  std::vector<TexelSample> received;
+  if (comm_.rank == root) {
+    std::size_t total = 0;
+    for (int r = 0; r < comm_.size; ++r) {
+      offsets[std::size_t(r)] = int(total);
+      total += std::size_t(counts[std::size_t(r)]);
+    }
+    TEXSIM_VERIFY(total < std::size_t(INT32_MAX), "atlas above 2 GiB: use fewer texels");
+    received.resize(total / sizeof(TexelSample));
+  }
+  MPI_Gatherv(mine.data(), my_bytes, MPI_BYTE, received.data(), counts.data(), offsets.data(),
+              MPI_BYTE, root, comm_.raw);
+  if (comm_.rank != root)
+    return {};
+  std::vector<TexelSample> image(std::size_t(resolution_) * std::size_t(resolution_));
+  const int tiles = tile_count_per_side() * tile_count_per_side();
+  std::vector<std::size_t> next(std::size_t(comm_.size));
+  for (int r = 0; r < comm_.size; ++r)
+    next[std::size_t(r)] = std::size_t(offsets[std::size_t(r)]) / sizeof(TexelSample);
+  for (int t = 0; t < tiles; ++t) {
+    const auto rect = tile_rect(t);
+    auto& at = next[std::size_t(owner_of_tile(t))];
+    for (int y = rect.y0; y < rect.y1; ++y)
+      for (int x = rect.x0; x < rect.x1; ++x)
+        image[std::size_t(y) * std::size_t(resolution_) + std::size_t(x)] = received[at++];
+  }
+  return image;
+}
+
+} // namespace texsim::pipelines::fluid_lapped

@@ -1,0 +1,106 @@
+#pragma once
+/// Lapped-texture compositing into one frame's atlas (section 5.1): per texel, the covering
+/// patches oldest (lowest id) first; the first whose texel there is not eroded gives the texel its
+/// patch and patch uv. No blending.
+///
+/// Distributed by tiles: the atlas is cut into tile x tile squares, tile i (row-major) owned by
+/// rank i mod size, and only the owner stores a tile's texels. Patch triangles are mapped into the
+/// atlas through the positions of their vertices on the frame's surface (each corner's frame
+/// triangle and its chart's affine map; a triangle spanning charts is drawn into each of them by
+/// the local extension of that chart's map) and sent to the owners of the tiles their texel
+/// boxes touch. No per-texel tree queries.
+#include "geom/surface_point.hpp"
+#include "geom/texture_atlas.hpp"
+#include "par/comm.hpp"
+#include "pipelines/fluid_lapped/erosion_mask.hpp"
+#include "pipelines/fluid_lapped/patch.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace texsim::pipelines::fluid_lapped {
+
+/// What one texel shows.
+struct TexelSample {
+  std::int64_t patch = -2; ///< patch id, or one of the constants below
+  float u = 0, v = 0;      ///< the patch's rest uv at the texel centre
+};
+inline constexpr std::int64_t kUnusedTexel = -2;      ///< no chart claims the texel
+inline constexpr std::int64_t kUncoveredTexel = -1;   ///< no patch covers it (yet)
+inline constexpr std::int64_t kUnreachableTexel = -3; ///< given up: its own new patch missed it
+
+/// A used texel that no patch covers, and the surface point it shows.
+struct UncoveredTexel {
+  int x = 0, y = 0;
+  geom::SurfacePoint point;
+};
+
+/// Texel counts over the whole atlas.
+struct AtlasCoverage {
+  std::int64_t used = 0, covered = 0, unreachable = 0;
+};
+
+class AtlasCompositor {
+public:
+  /// `frame` and `atlas` (geom::build_texture_atlas of it, or a planar atlas) are the same on
+  /// every rank; `erosion` must outlive the compositor. Collective (each rank sets up its tiles).
+  AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh& frame,
+                  const geom::TextureAtlas& atlas, int tile_size, const ErosionMask& erosion);
+
+  /// Adds patches below all those composited so far: a texel still uncovered takes, among the
+  /// patches of all ranks in this call, the lowest id whose sample there (patch_sample) is not
+  /// eroded. Texels covered earlier never change. Any split of the patches over ranks gives the
+  /// same texels. Collective.
+  void composite(std::span<const Patch> local_patches);
+
+  /// Up to max_count uncovered used texels in atlas order (row-major, row 0 at the top), with the
+  /// surface points they show; the same on every rank. Collective.
+  std::vector<UncoveredTexel> first_uncovered(std::size_t max_count) const;
+
+  /// Marks an uncovered texel as given up. Call on every rank with the same texel.
+  void mark_unreachable(int x, int y);
+
+  /// What `patch` would give texel (x, y) if it lay alone on the surface: its lowest-index
+  /// triangle whose atlas image holds the texel centre and whose sample there is not eroded;
+  /// nullopt when there is none. Not collective; any rank, any texel (the texel's chart is found
+  /// from the atlas).
+  std::optional<TexelSample> patch_sample(const Patch& patch, int x, int y) const;
+
+  /// Ids of the patches that own at least one texel, sorted; the same on every rank. Collective.
+  std::vector<std::int64_t> winning_patches() const;
+
+  /// Used, covered and unreachable texels of the whole atlas. Collective.
+  AtlasCoverage coverage() const;
+
+  /// The whole atlas on `root` (resolution^2 samples, row-major, row 0 at the top); empty on the
+  /// other ranks. Collective.
+  std::vector<TexelSample> gather(int root) const;
+
+  int resolution() const { return resolution_; }
+
+private:
+  struct Tile {
+    geom::TexelRect rect;
+    std::vector<std::int32_t> chart;   ///< per texel of rect, -1 when unused
+    std::vector<TexelSample> samples;  ///< per texel of rect
+  };
+
+  int tile_count_per_side() const { return (resolution_ + tile_size_ - 1) / tile_size_; }
+  geom::TexelRect tile_rect(int tile) const;
+  int owner_of_tile(int tile) const { return tile % comm_.size; }
+  /// The chart of texel (x, y), -1 when unused (from the atlas: any rank).
+  std::int32_t chart_of_texel(int x, int y) const;
+
+  par::Comm comm_;
+  const geom::TriangleMesh& frame_;
+  const geom::TextureAtlas& atlas_;
+  geom::AtlasTexelIndex index_;
+  int resolution_, tile_size_;
+  const ErosionMask& erosion_;
+  std::vector<Tile> tiles_;      ///< this rank's tiles, in increasing tile order
+  std::vector<int> tile_ids_;    ///< their tile numbers
+};
+
+} // namespace texsim::pipelines::fluid_lapped

@@ -1,0 +1,58 @@
+#pragma once
+/// What fluid_lapped writes for every frame, each a ParaView series (.pvd) or a numbered image:
+///   surface.pvd       the frame's surface split at chart seams, `uv` as texture coordinates,
+///                     `velocity` (surface/surface_<k>.pvtp)
+///   atlas/atlas_<k>.png               the frame's texture atlas
+///   displacement/displacement_<k>.png 16-bit grey, when the exemplar has a displacement image
+///   patch_ids.pvd     per texel: winning patch id (-1 uncovered, -2 unused), its age in frames
+///                     and its uv (patch_ids/patch_ids_<k>.vti)
+///   patches.pvd       the patch meshes with `patch_id` and the erosion weight `w`
+///                     (patches/patches_<k>.pvtp)
+/// The atlas images of frame k are gathered and written by rank k mod size.
+#include "par/comm.hpp"
+#include "pipelines/fluid_lapped/atlas_compositor.hpp"
+#include "pipelines/fluid_lapped/erosion_mask.hpp"
+#include "pipelines/fluid_lapped/fluid_exemplar.hpp"
+#include "pipelines/fluid_lapped/prepared_frames.hpp"
+#include "pipelines/fluid_lapped/velocity_field.hpp"
+#include "io/pvd_series.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace texsim::pipelines::fluid_lapped {
+
+class FrameOutputs {
+public:
+  /// Starts the series in `output_dir`, or continues them after `restart_time` (the time of
+  /// the last frame the checkpoint holds). Collective.
+  /// `exemplar` and `erosion` (which maps a patch uv to its exemplar texel) must outlive this.
+  FrameOutputs(const par::Comm& comm, std::filesystem::path output_dir,
+               const FluidExemplar& exemplar, const ErosionMask& erosion,
+               std::optional<double> restart_time);
+
+  /// Writes frame k. `velocity` gives the surface's velocity where the frame has none at its
+  /// vertices (analytic flows; may be null). Collective.
+  void write(int k, double time, const PreparedFrame& frame, const AtlasCompositor& compositor,
+             std::span<const Patch> patches, const VelocityField* velocity);
+
+  /// The .pvd files, for summary.json.
+  std::vector<std::filesystem::path> series() const;
+
+private:
+  void write_surface(int k, double time, const PreparedFrame& frame,
+                     const VelocityField* velocity);
+  void write_patches(int k, double time, std::span<const Patch> patches);
+  void write_atlas(int k, double time, const AtlasCompositor& compositor,
+                   std::span<const Patch> patches);
+
+  par::Comm comm_;
+  std::filesystem::path dir_;
+  const FluidExemplar& exemplar_;
+  const ErosionMask& erosion_;
+  io::PvdSeries surface_, patches_, ids_;
+};
+
+} // namespace texsim::pipelines::fluid_lapped
