@@ -194,9 +194,10 @@ Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, d
   const double to_uv = 0.5 / radius;
   for (std::size_t v = 0; v < uv.size(); ++v) {
     patch.rest_uv.push_back(Eigen::Vector2d(0.5, 0.5) + to_uv * scale * (turn * (uv[v] - uv_p)));
-    patch.positions.push_back(disk.positions[v]);
-    patch.surface_triangle.push_back(
-        frame.topology.vertex_triangles().row(frame_vertex[v]).front());
+    // Where projection would put the vertex, so a still fluid leaves the patch unchanged.
+    const auto on_surface = frame.tree.closest_point(disk.positions[v]);
+    patch.positions.push_back(on_surface.point);
+    patch.surface_triangle.push_back(on_surface.triangle);
   }
   patch.triangles = std::move(disk.triangles);
   patch.weights.assign(patch.positions.size(), 0.0);

@@ -21,8 +21,9 @@ inline constexpr std::uint32_t kPatchRotationStream = 0x5403;
 /// CounterRng(seed, kPatchRotationStream) keyed by the id†, moved so p sits at (0.5, 0.5) and
 /// scaled by 0.5 / radius (distance r -> 0.5)†. If LSCM fails, the growth is retried with a
 /// radius shrunk by 3/4 until it succeeds (p's triangle alone is laid out isometrically).
-/// surface_triangle of a vertex is its lowest-id triangle of the frame; weights are left at 0
-/// for update_weights(). Serial; deterministic.
+/// Vertices and their surface_triangle are where project_patch() would put them (closest
+/// point), so a still fluid leaves a patch as it was built; weights are left at 0 for
+/// update_weights(). Serial; deterministic.
 Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, double radius,
                   std::int64_t id, std::int32_t frame_index, std::uint64_t seed);
 

@@ -58,12 +58,28 @@ void update_weights(Patch& patch, double radius, double delta_max) {
     if (uses == 1)
       boundary[std::size_t(edge.first)] = boundary[std::size_t(edge.second)] = true;
   const Eigen::Vector2d centre(0.5, 0.5);
+  // The corners of the triangle holding p keep B_V = 1 even when farther than r / 4 (coarse
+  // triangles): the paper's reason for case 2 is that p itself must never be eroded.
+  std::vector<bool> holds_p(n, false);
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  for (const auto& t : patch.triangles) {
+    const auto& a = patch.rest_uv[std::size_t(t[0])];
+    const auto& b = patch.rest_uv[std::size_t(t[1])];
+    const auto& c = patch.rest_uv[std::size_t(t[2])];
+    const double area = cross(b - a, c - a);
+    const double s0 = cross(b - centre, c - centre) / area, s1 = cross(c - centre, a - centre) / area;
+    if (area != 0 && s0 >= 0 && s1 >= 0 && 1 - s0 - s1 >= 0)
+      for (const auto v : t)
+        holds_p[std::size_t(v)] = true;
+  }
   patch.weights.assign(n, 0.0);
   for (std::size_t v = 0; v < n; ++v) {
     if (triangle_count[v] == 0)
       continue;
-    const bool far_boundary =
-        boundary[v] && (patch.rest_uv[v] - centre).norm() * 2.0 * radius > radius / 4.0;
+    const bool far_boundary = boundary[v] && !holds_p[v] &&
+                              (patch.rest_uv[v] - centre).norm() * 2.0 * radius > radius / 4.0;
     patch.weights[v] = far_boundary ? 0.0 : quality_sum[v] / triangle_count[v];
   }
 }

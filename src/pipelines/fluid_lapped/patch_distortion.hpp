@@ -22,8 +22,8 @@ double triangle_quality(double delta, double delta_max);
 
 /// Sets patch.weights: Q_V is the mean Q_T over the vertex's triangles (rest shape = rest_uv x 2r),
 /// B_V = 0 on a boundary vertex of the current triangles whose rest distance to p
-/// (|uv - (0.5, 0.5)| x 2r) exceeds r / 4, else 1 (equation 2); w_V = Q_V B_V, 0 for a vertex no
-/// triangle uses.
+/// (|uv - (0.5, 0.5)| x 2r) exceeds r / 4 and that is not a corner of the triangle holding p
+/// (rest uv (0.5, 0.5))†, else 1 (equation 2); w_V = Q_V B_V, 0 for a vertex no triangle uses.
 void update_weights(Patch& patch, double radius, double delta_max = 3.0);
 
 } // namespace texsim::pipelines::fluid_lapped
