@@ -13,8 +13,8 @@
 namespace texsim::geom {
 
 struct SeamSplitMesh {
-  TriangleMesh mesh;                       ///< same triangles, vertices split at seams
-  std::vector<Eigen::Vector2d> uv;         ///< one per vertex of mesh
+  TriangleMesh mesh;                         ///< same triangles, vertices split at seams
+  std::vector<Eigen::Vector2d> uv;           ///< one per vertex of mesh
   std::vector<std::int32_t> original_vertex; ///< the input vertex each vertex copies
 };
 

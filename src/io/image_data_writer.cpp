@@ -17,8 +17,8 @@ namespace texsim::io {
 
 void write_image_data(const std::filesystem::path& path, int width, int height,
                       const std::vector<DataField>& point_fields) {
-  TEXSIM_VERIFY(width > 0 && height > 0, path.string() << ": image of " << width << " x "
-                                                       << height << " pixels");
+  TEXSIM_VERIFY(width > 0 && height > 0,
+                path.string() << ": image of " << width << " x " << height << " pixels");
   vtkNew<vtkImageData> image;
   image->SetDimensions(width, height, 1);
   for (const auto& field : point_fields) {

@@ -36,7 +36,8 @@ std::string vortex_run(int ranks, const fs::path& out, const std::string& extra 
          " --quiet --set fluid_lapped.frames.count=" + std::to_string(kFrames) +
          " --set fluid_lapped.frames.mesh.cells_per_edge=24"
          " --set fluid_lapped.atlas.resolution=96 --set fluid_lapped.atlas.tile=32"
-         " --set checkpoint.every=1 --set checkpoint.keep=100000 --set output.every=1 --set output.dir=" +
+         " --set checkpoint.every=1 --set checkpoint.keep=100000 --set output.every=1 --set "
+         "output.dir=" +
          out.string() + " " + extra;
 }
 

@@ -41,8 +41,8 @@ AnalyticFlowSettings read_analytic_flow(const ConfigSection& section) {
                                         {"plane_vortex", FlowKind::plane_vortex},
                                         {"sphere_shear", FlowKind::sphere_shear},
                                         {"plane_strain", FlowKind::plane_strain}});
-  const auto centre =
-      section.get<std::array<double, 3>>("centre", {flow.centre.x(), flow.centre.y(), flow.centre.z()});
+  const auto centre = section.get<std::array<double, 3>>(
+      "centre", {flow.centre.x(), flow.centre.y(), flow.centre.z()});
   flow.centre = geom::Vec3(centre[0], centre[1], centre[2]);
   flow.rate = section.get<double>("rate", flow.rate);
   flow.width = section.get<double>("width", flow.width, positive());

@@ -23,7 +23,7 @@ struct MappedTriangle {
   std::int64_t patch = 0;
   std::int32_t triangle = 0; ///< index in the patch
   std::int32_t chart = 0;
-  std::int32_t tile = 0;     ///< the tile this copy is for (routing)
+  std::int32_t tile = 0; ///< the tile this copy is for (routing)
   double xy[3][2] = {};
   double uv[3][2] = {};
   double weight[3] = {};
@@ -31,8 +31,8 @@ struct MappedTriangle {
 
 /// Image coordinates of a surface point q near frame triangle t, through t's affine map into
 /// its chart (q projected into t's plane, barycentric weights not clamped).
-Point2 image_point(const geom::TriangleMesh& frame, const geom::TextureAtlas& atlas,
-                   std::int32_t t, const geom::Vec3& q) {
+Point2 image_point(const geom::TriangleMesh& frame, const geom::TextureAtlas& atlas, std::int32_t t,
+                   const geom::Vec3& q) {
   const auto& tri = frame.triangles[std::size_t(t)];
   const auto w = geom::barycentric_weights(frame.positions[std::size_t(tri[0])],
                                            frame.positions[std::size_t(tri[1])],
@@ -196,8 +196,8 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
     const auto box = texel_box(m);
     for (int y = std::max(box.y0, tile.rect.y0); y < std::min(box.y1, tile.rect.y1); ++y)
       for (int x = std::max(box.x0, tile.rect.x0); x < std::min(box.x1, tile.rect.x1); ++x) {
-        const auto i = std::size_t(y - tile.rect.y0) * std::size_t(width) +
-                       std::size_t(x - tile.rect.x0);
+        const auto i =
+            std::size_t(y - tile.rect.y0) * std::size_t(width) + std::size_t(x - tile.rect.x0);
         if (tile.samples[i].patch != kUncoveredTexel || tile.chart[i] != m.chart)
           continue;
         auto& slot = slots[i];
@@ -235,8 +235,8 @@ std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_cou
     std::size_t found = 0;
     for (std::size_t i = 0; i < tile.samples.size() && found < max_count; ++i)
       if (tile.samples[i].patch == kUncoveredTexel) {
-        mine.push_back(std::int64_t(tile.rect.y0 + int(i) / width) * resolution_ +
-                       tile.rect.x0 + int(i) % width);
+        mine.push_back(std::int64_t(tile.rect.y0 + int(i) / width) * resolution_ + tile.rect.x0 +
+                       int(i) % width);
         ++found;
       }
   }
@@ -258,11 +258,13 @@ std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_cou
   for (const auto index : all) {
     const int x = int(index % resolution_), y = int(index / resolution_);
     const auto texels = index_.texels_in({x, y, x + 1, y + 1});
-    TEXSIM_VERIFY(texels.size() == 1, "uncovered texel (" << x << ", " << y << ") not in the atlas");
+    TEXSIM_VERIFY(texels.size() == 1,
+                  "uncovered texel (" << x << ", " << y << ") not in the atlas");
     const auto& tri = frame_.triangles[std::size_t(texels[0].triangle)];
     geom::Vec3 position = geom::Vec3::Zero();
     for (int c = 0; c < 3; ++c)
-      position += texels[0].weights[std::size_t(c)] * frame_.positions[std::size_t(tri[std::size_t(c)])];
+      position +=
+          texels[0].weights[std::size_t(c)] * frame_.positions[std::size_t(tri[std::size_t(c)])];
     uncovered.push_back({x, y, {position, texels[0].triangle}});
   }
   return uncovered;

@@ -83,8 +83,8 @@ public:
 private:
   struct Tile {
     geom::TexelRect rect;
-    std::vector<std::int32_t> chart;   ///< per texel of rect, -1 when unused
-    std::vector<TexelSample> samples;  ///< per texel of rect
+    std::vector<std::int32_t> chart;  ///< per texel of rect, -1 when unused
+    std::vector<TexelSample> samples; ///< per texel of rect
   };
 
   int tile_count_per_side() const { return (resolution_ + tile_size_ - 1) / tile_size_; }
@@ -99,8 +99,8 @@ private:
   geom::AtlasTexelIndex index_;
   int resolution_, tile_size_;
   const ErosionMask& erosion_;
-  std::vector<Tile> tiles_;      ///< this rank's tiles, in increasing tile order
-  std::vector<int> tile_ids_;    ///< their tile numbers
+  std::vector<Tile> tiles_;   ///< this rank's tiles, in increasing tile order
+  std::vector<int> tile_ids_; ///< their tile numbers
 };
 
 } // namespace texsim::pipelines::fluid_lapped

@@ -36,8 +36,7 @@ img::GreyImage read_matching(const std::filesystem::path& path, const std::strin
   if (image.width() != exemplar.width() || image.height() != exemplar.height())
     throw InputError(key + ": " + path.string() + " is " + std::to_string(image.width()) + " x " +
                      std::to_string(image.height()) + " pixels; expected the exemplar's " +
-                     std::to_string(exemplar.width()) + " x " +
-                     std::to_string(exemplar.height()));
+                     std::to_string(exemplar.width()) + " x " + std::to_string(exemplar.height()));
   return luminance(image);
 }
 
@@ -58,8 +57,8 @@ FluidExemplar load_fluid_exemplar(const ExemplarSettings& settings) {
         read_matching(settings.feature_map, "fluid_lapped.exemplar.feature_map", exemplar.colour);
   }
   if (!settings.displacement.empty())
-    exemplar.displacement = read_matching(settings.displacement,
-                                          "fluid_lapped.exemplar.displacement", exemplar.colour);
+    exemplar.displacement =
+        read_matching(settings.displacement, "fluid_lapped.exemplar.displacement", exemplar.colour);
   std::string bytes;
   append_bytes(bytes, exemplar.colour.data());
   append_bytes(bytes, exemplar.feature.data());

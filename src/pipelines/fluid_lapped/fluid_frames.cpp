@@ -37,8 +37,7 @@ FluidFrame read_stored(const std::filesystem::path& path, const std::string& vel
 }
 
 /// The vertex velocity of `frame` at the closest point of its surface to x.
-geom::Vec3 velocity_near(const FluidFrame& frame, const geom::AabbTree& tree,
-                         const geom::Vec3& x) {
+geom::Vec3 velocity_near(const FluidFrame& frame, const geom::AabbTree& tree, const geom::Vec3& x) {
   const auto closest = tree.closest_point(x);
   const auto& t = frame.mesh.triangles[std::size_t(closest.triangle)];
   const auto w = geom::barycentric_weights(frame.mesh.positions[std::size_t(t[0])],
@@ -93,9 +92,8 @@ FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(set
       TEXSIM_INPUT_ERROR(kKey << ": frame " << k << " of " << settings_.frames << ", "
                               << files_[k].string() << ", is missing");
     if (k > 0 && !(times_[k] > times_[k - 1]))
-      TEXSIM_INPUT_ERROR(kKey << ": the times of " << settings_.frames
-                              << " must increase; frame " << k << " has " << times_[k]
-                              << " after " << times_[k - 1]);
+      TEXSIM_INPUT_ERROR(kKey << ": the times of " << settings_.frames << " must increase; frame "
+                              << k << " has " << times_[k] << " after " << times_[k - 1]);
   }
   edge_length_ = settings_.edge_length > 0
                      ? settings_.edge_length

@@ -27,7 +27,7 @@ struct FrameSourceSettings {
   /// surfaces: a .pvd, or a pattern with one printf integer (`frames/surface_%04d.vtp`) counted
   /// from 0 (or 1 when frame 0 is missing) until a file is missing
   std::string frames;
-  double frame_interval = 1.0;  ///< interval: time between pattern frames
+  double frame_interval = 1.0;      ///< interval: time between pattern frames
   std::string velocity_array = "U"; ///< velocity_array: 3-component point array of the surfaces
   /// edge_length: target of the isotropic remeshing; 0 = the mean edge of frame 0 as stored
   double edge_length = 0;

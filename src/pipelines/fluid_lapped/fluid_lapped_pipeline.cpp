@@ -49,7 +49,8 @@ public:
       });
       count_ = frames.count;
     }
-    prepared_.emplace(comm, count_, [this](int k) { return read(k); }, settings.atlas);
+    prepared_.emplace(
+        comm, count_, [this](int k) { return read(k); }, settings.atlas);
   }
 
   int count() const { return count_; }
@@ -115,8 +116,8 @@ void seed_patches(const par::Comm& comm, const FrameSurface& surface,
     }
   });
   state.next_id = std::int64_t(centres.size());
-  log::info(log::cat("frame 0: ", centres.size(), " Poisson-disk patch centres at r = ",
-                     settings.radius));
+  log::info(log::cat("frame 0: ", centres.size(),
+                     " Poisson-disk patch centres at r = ", settings.radius));
 }
 
 /// Carries this rank's patches from frame k - 1 to frame k: advection, projection onto the new
@@ -189,8 +190,8 @@ void FluidLappedPipeline::run(RunContext& ctx) {
     for (const auto& skipped : found.skipped)
       log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
     par::run_collectively(comm, [&] { state = load_patch_state(comm, found.reader, inputs_hash); });
-    log::info(log::cat("restarted from ", found.reader.path().string(), " after frame ",
-                       state.frame));
+    log::info(
+        log::cat("restarted from ", found.reader.path().string(), " after frame ", state.frame));
   }
   const int first = state.frame + 1;
   FrameOutputs outputs(comm, run.output_dir, exemplar, erosion,
@@ -223,10 +224,9 @@ void FluidLappedPipeline::run(RunContext& ctx) {
       seed_patches(comm, surface, settings_, run.seed, state);
     } else {
       const auto data_velocity = animation.velocity();
-      const VelocityField& velocity =
-          data_velocity ? *data_velocity : *animation.analytic_flow();
-      carry_patches(velocity, animation.time(k - 1), animation.time(k), *previous_surface,
-                    surface, settings_, state, ctx.timers);
+      const VelocityField& velocity = data_velocity ? *data_velocity : *animation.analytic_flow();
+      carry_patches(velocity, animation.time(k - 1), animation.time(k), *previous_surface, surface,
+                    settings_, state, ctx.timers);
     }
     PopulationReport populated;
     std::optional<AtlasCompositor> compositor;
@@ -245,18 +245,20 @@ void FluidLappedPipeline::run(RunContext& ctx) {
     }
     {
       auto stage = ctx.timers.scope("update");
-      state.patches = exchange_patches(comm, state.patches, morton_destinations(comm, state.patches));
+      state.patches =
+          exchange_patches(comm, state.patches, morton_destinations(comm, state.patches));
     }
-    frame_metrics.push_back({{"frame", k},
-                             {"time", animation.time(k)},
-                             {"patches", populated.patches},
-                             {"created", populated.created},
-                             {"removed", populated.removed},
-                             {"creation_rounds", populated.rounds},
-                             {"used_texels", coverage.used},
-                             {"covered_texels", coverage.covered},
-                             {"unreachable_texels", coverage.unreachable},
-                             {"coverage", coverage.used ? double(coverage.covered) / double(coverage.used) : 1.0}});
+    frame_metrics.push_back(
+        {{"frame", k},
+         {"time", animation.time(k)},
+         {"patches", populated.patches},
+         {"created", populated.created},
+         {"removed", populated.removed},
+         {"creation_rounds", populated.rounds},
+         {"used_texels", coverage.used},
+         {"covered_texels", coverage.covered},
+         {"unreachable_texels", coverage.unreachable},
+         {"coverage", coverage.used ? double(coverage.covered) / double(coverage.used) : 1.0}});
     log::info(log::cat("frame ", k, ": ", populated.patches, " patches (", populated.created,
                        " new, ", populated.removed, " removed), coverage ",
                        coverage.used ? double(coverage.covered) / double(coverage.used) : 1.0));

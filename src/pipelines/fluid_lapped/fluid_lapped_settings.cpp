@@ -41,9 +41,9 @@ ExemplarSettings read_exemplar(const ConfigSection& section) {
   exemplar.image = section.require<std::string>("image");
   exemplar.feature_map = section.get<std::string>("feature_map", "");
   exemplar.displacement = section.get<std::string>("displacement", "");
-  for (const auto& [key, path] : {std::pair{"image", exemplar.image},
-                                  std::pair{"feature_map", exemplar.feature_map},
-                                  std::pair{"displacement", exemplar.displacement}})
+  for (const auto& [key, path] :
+       {std::pair{"image", exemplar.image}, std::pair{"feature_map", exemplar.feature_map},
+        std::pair{"displacement", exemplar.displacement}})
     if (!path.empty() && !std::filesystem::is_regular_file(path))
       section.fail(key, "an existing image file (PNG, JPEG or GIMP .pat)");
   return exemplar;
@@ -80,8 +80,9 @@ FluidLappedSettings read_fluid_lapped_settings(const ConfigSection& section) {
   settings.atlas = read_atlas(section.section("atlas"));
   settings.creation_batch =
       section.get<int>("creation_batch", settings.creation_batch, int_in_range(1, 65536));
-  settings.substep_multiplier = section.section("advection").get<int>(
-      "substep_multiplier", settings.substep_multiplier, int_in_range(1, 1024));
+  settings.substep_multiplier =
+      section.section("advection")
+          .get<int>("substep_multiplier", settings.substep_multiplier, int_in_range(1, 1024));
   return settings;
 }
 

@@ -49,11 +49,11 @@ struct AtlasSettings {
 struct FluidLappedSettings {
   FrameSettings frames;
   ExemplarSettings exemplar;
-  double radius = 0;       ///< radius: patch radius r, model units (required)
-  double delta_max = 3.0;  ///< erosion.delta_max: distortion at which a triangle's quality is 0
-  double epsilon = 0.1;    ///< erosion.epsilon: how much every patch is eroded from the start
-  AtlasSettings atlas;     ///< atlas
-  int creation_batch = 64; ///< creation_batch: new-patch candidates built per round
+  double radius = 0;          ///< radius: patch radius r, model units (required)
+  double delta_max = 3.0;     ///< erosion.delta_max: distortion at which a triangle's quality is 0
+  double epsilon = 0.1;       ///< erosion.epsilon: how much every patch is eroded from the start
+  AtlasSettings atlas;        ///< atlas
+  int creation_batch = 64;    ///< creation_batch: new-patch candidates built per round
   int substep_multiplier = 1; ///< advection.substep_multiplier: RK4 substeps times this
 };
 

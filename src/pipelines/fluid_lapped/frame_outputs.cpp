@@ -146,11 +146,10 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
   MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_.raw);
   for (int r = 1; r < comm_.size; ++r)
     offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-  std::vector<Birth> births(comm_.rank == root
-                                ? std::size_t(offsets.back() + counts.back()) / sizeof(Birth)
-                                : 0);
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, births.data(), counts.data(), offsets.data(),
-              MPI_BYTE, root, comm_.raw);
+  std::vector<Birth> births(
+      comm_.rank == root ? std::size_t(offsets.back() + counts.back()) / sizeof(Birth) : 0);
+  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, births.data(), counts.data(), offsets.data(), MPI_BYTE,
+              root, comm_.raw);
   const std::string png = "atlas/" + numbered("atlas", k, ".png");
   const std::string displacement = "displacement/" + numbered("displacement", k, ".png");
   const std::string ids = "patch_ids/" + numbered("patch_ids", k, ".vti");
@@ -176,12 +175,11 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
       const int x = int(i % std::size_t(n)), y = int(i / std::size_t(n));
       colour.at(x, y) = exemplar_.colour.at(texel[0], texel[1]);
       if (exemplar_.displacement)
-        heights[i] = std::uint16_t(
-            std::lround(65535.0 * std::clamp(exemplar_.displacement->at(texel[0], texel[1]),
-                                             0.0f, 1.0f)));
-      const auto birth = std::lower_bound(
-          births.begin(), births.end(), s.patch,
-          [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
+        heights[i] = std::uint16_t(std::lround(
+            65535.0 * std::clamp(exemplar_.displacement->at(texel[0], texel[1]), 0.0f, 1.0f)));
+      const auto birth =
+          std::lower_bound(births.begin(), births.end(), s.patch,
+                           [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
       TEXSIM_VERIFY(birth != births.end() && birth->id == s.patch,
                     "texel of patch " << s.patch << " that no rank holds");
       age[i] = k - birth->frame;

@@ -9,13 +9,13 @@
 ///   patches.pvd       the patch meshes with `patch_id` and the erosion weight `w`
 ///                     (patches/patches_<k>.pvtp)
 /// The atlas images of frame k are gathered and written by rank k mod size.
+#include "io/pvd_series.hpp"
 #include "par/comm.hpp"
 #include "pipelines/fluid_lapped/atlas_compositor.hpp"
 #include "pipelines/fluid_lapped/erosion_mask.hpp"
 #include "pipelines/fluid_lapped/fluid_exemplar.hpp"
 #include "pipelines/fluid_lapped/prepared_frames.hpp"
 #include "pipelines/fluid_lapped/velocity_field.hpp"
-#include "io/pvd_series.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -42,8 +42,7 @@ public:
   std::vector<std::filesystem::path> series() const;
 
 private:
-  void write_surface(int k, double time, const PreparedFrame& frame,
-                     const VelocityField* velocity);
+  void write_surface(int k, double time, const PreparedFrame& frame, const VelocityField* velocity);
   void write_patches(int k, double time, std::span<const Patch> patches);
   void write_atlas(int k, double time, const AtlasCompositor& compositor,
                    std::span<const Patch> patches);

@@ -16,7 +16,7 @@ void advect_patch(Patch& patch, const VelocityField& velocity, double t0, double
     const int steps =
         settings.substep_multiplier *
         std::max(1, int(std::ceil(settings.max_step_length > 0 ? travel / settings.max_step_length
-                                                                : 1.0)));
+                                                               : 1.0)));
     const double h = span / steps;
     for (int s = 0; s < steps; ++s) {
       const double t = t0 + s * h;

@@ -175,19 +175,18 @@ Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, d
     const Eigen::Vector2d a = uv[std::size_t(t[1])] - uv[std::size_t(t[0])],
                           b = uv[std::size_t(t[2])] - uv[std::size_t(t[0])];
     uv_area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
-    surface_area += geom::triangle_area(disk.positions[std::size_t(t[0])],
-                                        disk.positions[std::size_t(t[1])],
-                                        disk.positions[std::size_t(t[2])]);
+    surface_area +=
+        geom::triangle_area(disk.positions[std::size_t(t[0])], disk.positions[std::size_t(t[1])],
+                            disk.positions[std::size_t(t[2])]);
   }
   const double scale = uv_area > 0 ? std::sqrt(surface_area / uv_area) : 1.0;
   const CounterRng rng(seed, kPatchRotationStream);
   const Eigen::Rotation2Dd turn(2.0 * M_PI * rng.uniform(std::uint64_t(id), 0));
   // p's uv from its triangle's corners (p's triangle is always the first patch triangle).
   const auto& first = disk.triangles.front();
-  const auto weights = geom::barycentric_weights(disk.positions[std::size_t(first[0])],
-                                                 disk.positions[std::size_t(first[1])],
-                                                 disk.positions[std::size_t(first[2])],
-                                                 centre.position);
+  const auto weights = geom::barycentric_weights(
+      disk.positions[std::size_t(first[0])], disk.positions[std::size_t(first[1])],
+      disk.positions[std::size_t(first[2])], centre.position);
   Eigen::Vector2d uv_p = Eigen::Vector2d::Zero();
   for (int c = 0; c < 3; ++c)
     uv_p += weights[std::size_t(c)] * uv[std::size_t(first[std::size_t(c)])];

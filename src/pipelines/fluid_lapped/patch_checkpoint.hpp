@@ -16,9 +16,9 @@ namespace texsim::pipelines::fluid_lapped {
 
 /// Where the run stands after a finished frame.
 struct PatchState {
-  std::vector<Patch> patches;  ///< this rank's patches, sorted by id
-  std::int64_t next_id = 0;    ///< id of the next patch to be created
-  std::int32_t frame = -1;     ///< the last finished frame
+  std::vector<Patch> patches; ///< this rank's patches, sorted by id
+  std::int64_t next_id = 0;   ///< id of the next patch to be created
+  std::int32_t frame = -1;    ///< the last finished frame
 };
 
 /// Writes `state` (any split of the patches over ranks) as checkpoint step state.frame + 1, with

@@ -69,7 +69,8 @@ void update_weights(Patch& patch, double radius, double delta_max) {
     const auto& b = patch.rest_uv[std::size_t(t[1])];
     const auto& c = patch.rest_uv[std::size_t(t[2])];
     const double area = cross(b - a, c - a);
-    const double s0 = cross(b - centre, c - centre) / area, s1 = cross(c - centre, a - centre) / area;
+    const double s0 = cross(b - centre, c - centre) / area,
+                 s1 = cross(c - centre, a - centre) / area;
     if (area != 0 && s0 >= 0 && s1 >= 0 && 1 - s0 - s1 >= 0)
       for (const auto v : t)
         holds_p[std::size_t(v)] = true;

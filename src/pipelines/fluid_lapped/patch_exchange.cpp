@@ -78,8 +78,8 @@ std::vector<Record> allgather_records(const par::Comm& comm, const std::vector<R
     total += std::size_t(counts[std::size_t(r)]);
   }
   std::vector<Record> all(total / sizeof(Record));
-  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
-                 MPI_BYTE, comm.raw);
+  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                 comm.raw);
   return all;
 }
 
@@ -90,8 +90,7 @@ std::vector<Patch> exchange_patches(const par::Comm& comm, std::span<const Patch
   std::vector<std::vector<VertexRecord>> vertices(std::size_t(comm.size));
   std::vector<std::vector<TriangleRecord>> triangles(std::size_t(comm.size));
   for (std::size_t i = 0; i < patches.size(); ++i)
-    pack(patches[i], vertices[std::size_t(destination[i])],
-         triangles[std::size_t(destination[i])]);
+    pack(patches[i], vertices[std::size_t(destination[i])], triangles[std::size_t(destination[i])]);
   return unpack(par::exchange_records(comm, vertices), par::exchange_records(comm, triangles));
 }
 
@@ -117,8 +116,7 @@ std::vector<int> morton_destinations(const par::Comm& comm, std::span<const Patc
     local.push_back({patch.id, {sum.x(), sum.y(), sum.z()}});
   }
   auto all = allgather_records(comm, local);
-  std::sort(all.begin(), all.end(),
-            [](const Centre& a, const Centre& b) { return a.id < b.id; });
+  std::sort(all.begin(), all.end(), [](const Centre& a, const Centre& b) { return a.id < b.id; });
   std::vector<std::array<double, 3>> points;
   for (const auto& c : all)
     points.push_back(c.xyz);
@@ -149,8 +147,8 @@ std::vector<int> id_order_destinations(const par::Comm& comm, std::span<const Pa
   std::map<std::int64_t, int> rank_of;
   std::int64_t before = 0;
   for (const auto& s : all) {
-    rank_of[s.id] = total == 0 ? 0 : int(std::min<std::int64_t>(before * comm.size / total,
-                                                                  comm.size - 1));
+    rank_of[s.id] =
+        total == 0 ? 0 : int(std::min<std::int64_t>(before * comm.size / total, comm.size - 1));
     before += s.vertices;
   }
   std::vector<int> destination;

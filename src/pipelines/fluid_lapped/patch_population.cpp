@@ -23,7 +23,8 @@ PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame
     ++report.rounds;
     std::vector<Patch> built;
     par::run_collectively(comm, [&] {
-      for (std::size_t i = std::size_t(comm.rank); i < uncovered.size(); i += std::size_t(comm.size)) {
+      for (std::size_t i = std::size_t(comm.rank); i < uncovered.size();
+           i += std::size_t(comm.size)) {
         auto patch = build_patch(frame, uncovered[i].point, settings.radius,
                                  state.next_id + std::int64_t(i), state.frame + 1, settings.seed);
         update_weights(patch, settings.radius, settings.delta_max);

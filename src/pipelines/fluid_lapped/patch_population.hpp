@@ -13,19 +13,19 @@
 namespace texsim::pipelines::fluid_lapped {
 
 struct PopulationSettings {
-  double radius = 0;         ///< patch radius r
-  double delta_max = 3.0;    ///< of the new patches' weights
-  int batch = 64;            ///< candidates built per round (independent of the rank count)
-  std::uint64_t seed = 1;    ///< keys the patches' rotations
+  double radius = 0;      ///< patch radius r
+  double delta_max = 3.0; ///< of the new patches' weights
+  int batch = 64;         ///< candidates built per round (independent of the rank count)
+  std::uint64_t seed = 1; ///< keys the patches' rotations
 };
 
 /// What covering one frame did.
 struct PopulationReport {
-  std::int64_t created = 0;   ///< new patches accepted
-  std::int64_t rejected = 0;  ///< candidates whose texel an earlier new patch covered
-  std::int64_t removed = 0;   ///< patches that won no texel
-  std::int64_t patches = 0;   ///< patches after the frame
-  int rounds = 0;             ///< candidate rounds
+  std::int64_t created = 0;  ///< new patches accepted
+  std::int64_t rejected = 0; ///< candidates whose texel an earlier new patch covered
+  std::int64_t removed = 0;  ///< patches that won no texel
+  std::int64_t patches = 0;  ///< patches after the frame
+  int rounds = 0;            ///< candidate rounds
 };
 
 /// Composites `state.patches` (this rank's, any split) into `compositor`, then adds patches until

@@ -44,8 +44,8 @@ private:
   int frame_count_;
   std::function<FluidFrame(int)> read_;
   AtlasSettings atlas_;
-  int batch_begin_ = -1;                ///< first frame of the batch prepared last
-  std::optional<PreparedFrame> mine_;   ///< the frame this rank prepared in that batch
+  int batch_begin_ = -1;              ///< first frame of the batch prepared last
+  std::optional<PreparedFrame> mine_; ///< the frame this rank prepared in that batch
 };
 
 } // namespace texsim::pipelines::fluid_lapped
