@@ -90,9 +90,11 @@ TEST(FluidLappedOpticalFlow, TheTextureMovesWithTheVortex) {
       texsim::test::texsim_under_mpirun(2) + " " +
           (kSource / "config/fluid_lapped/vortex_plane.yaml").string() +
           " --quiet --set fluid_lapped.frames.count=3 --set fluid_lapped.frames.interval=" +
-          std::to_string(kInterval) + " --set fluid_lapped.atlas.resolution=" +
-          std::to_string(kSize) + " --set fluid_lapped.radius=0.15 --set output.every=1"
-          " --set output.dir=" + out.string(),
+          std::to_string(kInterval) +
+          " --set fluid_lapped.atlas.resolution=" + std::to_string(kSize) +
+          " --set fluid_lapped.radius=0.15 --set output.every=1"
+          " --set output.dir=" +
+          out.string(),
       kSource);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   // The same flow as the config's.
@@ -123,7 +125,8 @@ TEST(FluidLappedOpticalFlow, TheTextureMovesWithTheVortex) {
         for (int s = 0; s < 20; ++s) {
           const double t = k * kInterval + s * h;
           const auto k1 = velocity->at(p, t), k2 = velocity->at(p + 0.5 * h * k1, t + 0.5 * h);
-          const auto k3 = velocity->at(p + 0.5 * h * k2, t + 0.5 * h), k4 = velocity->at(p + h * k3, t + h);
+          const auto k3 = velocity->at(p + 0.5 * h * k2, t + 0.5 * h),
+                     k4 = velocity->at(p + h * k3, t + h);
           p += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
         }
         const double tx = (p.x() - start.x()) * kSize, ty = -(p.y() - start.y()) * kSize;
@@ -136,8 +139,9 @@ TEST(FluidLappedOpticalFlow, TheTextureMovesWithTheVortex) {
           continue;
         endpoint.push_back(std::hypot(d.dx - tx, d.dy - ty));
         if (std::hypot(tx, ty) >= 1.0)
-          angle.push_back(std::abs(std::remainder(std::atan2(d.dy, d.dx) - std::atan2(ty, tx),
-                                                  2 * M_PI)) * 180 / M_PI);
+          angle.push_back(
+              std::abs(std::remainder(std::atan2(d.dy, d.dx) - std::atan2(ty, tx), 2 * M_PI)) *
+              180 / M_PI);
       }
     EXPECT_GE(double(same_patch), 0.85 * double(compared)) << "frame " << k;
     ASSERT_GT(angle.size(), 100u);

@@ -165,9 +165,10 @@ TEST(AtlasCompositor, APatchAcrossAChartSeamIsDrawnIntoBothCharts) {
   Patch across;
   for (std::int32_t t = 0; t < frame.mesh.num_triangles() && across.id < 0; ++t) {
     const auto& tri = frame.mesh.triangles[std::size_t(t)];
-    const Vec3 centre = (frame.mesh.positions[std::size_t(tri[0])] +
-                         frame.mesh.positions[std::size_t(tri[1])] +
-                         frame.mesh.positions[std::size_t(tri[2])]) / 3.0;
+    const Vec3 centre =
+        (frame.mesh.positions[std::size_t(tri[0])] + frame.mesh.positions[std::size_t(tri[1])] +
+         frame.mesh.positions[std::size_t(tri[2])]) /
+        3.0;
     auto patch = build_patch(frame, {centre, t}, 0.3, t, 0, 3);
     std::set<std::int32_t> charts;
     for (const auto s : patch.surface_triangle)

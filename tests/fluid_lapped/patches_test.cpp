@@ -52,8 +52,8 @@ Patch grid_patch(double radius) {
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       patch.positions.emplace_back(double(i) / n, double(j) / n, 0.0);
-      patch.rest_uv.push_back(Uv(0.5, 0.5) + (Uv(double(i) / n, double(j) / n) - Uv(0.5, 0.5)) *
-                                                  (0.5 / radius));
+      patch.rest_uv.push_back(Uv(0.5, 0.5) +
+                              (Uv(double(i) / n, double(j) / n) - Uv(0.5, 0.5)) * (0.5 / radius));
       patch.surface_triangle.push_back(0);
     }
   for (int j = 0; j < n; ++j)
@@ -100,12 +100,15 @@ TEST(PatchWeights, CornersOfPsTriangleKeepBoundaryWeightOne) {
     EXPECT_DOUBLE_EQ(w, 1.0);
 }
 
-FrameSurface flat_frame() { return FrameSurface(geom::plane(Vec3(2, 2, 0), 40)); }
+FrameSurface flat_frame() {
+  return FrameSurface(geom::plane(Vec3(2, 2, 0), 40));
+}
 
 TEST(PatchBuilder, FlatPatchIsAnIsometryCentredOnP) {
   const auto frame = flat_frame();
   const double r = 0.3;
-  const geom::SurfacePoint p{Vec3(1.013, 0.977, 0), frame.tree.closest_point(Vec3(1.013, 0.977, 0)).triangle};
+  const geom::SurfacePoint p{Vec3(1.013, 0.977, 0),
+                             frame.tree.closest_point(Vec3(1.013, 0.977, 0)).triangle};
   auto patch = build_patch(frame, p, r, 7, 0, 1);
   update_weights(patch, r);
   ASSERT_GT(patch.triangles.size(), 20u);

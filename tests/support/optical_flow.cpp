@@ -51,7 +51,8 @@ FlowVector LucasKanade::at(int x, int y) const {
   for (int level = int(first_.size()) - 1; level >= 0; --level) {
     const auto& I = first_[std::size_t(level)];
     const auto& J = second_[std::size_t(level)];
-    const double px = (x + 0.5) / double(1 << level) - 0.5, py = (y + 0.5) / double(1 << level) - 0.5;
+    const double px = (x + 0.5) / double(1 << level) - 0.5,
+                 py = (y + 0.5) / double(1 << level) - 0.5;
     double gxx = 0, gxy = 0, gyy = 0;
     for (int j = -w; j <= w; ++j)
       for (int i = -w; i <= w; ++i) {

@@ -10,7 +10,9 @@ namespace texsim::test {
 struct GreyPicture {
   int width = 0, height = 0;
   std::vector<float> values;
-  float at(int x, int y) const { return values[std::size_t(y) * std::size_t(width) + std::size_t(x)]; }
+  float at(int x, int y) const {
+    return values[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+  }
 };
 
 /// The flow of one pixel: where its neighbourhood of `first` went in `second`, in pixels (x right,

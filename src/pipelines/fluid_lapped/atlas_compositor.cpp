@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
+#include "geom/mesh_topology.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -42,25 +43,74 @@ Point2 image_point(const geom::TriangleMesh& frame, const geom::TextureAtlas& at
   return {uv.x() * atlas.resolution, atlas.resolution * (1.0 - uv.y())};
 }
 
-/// Triangle `index` of `patch` drawn into every chart its corners lie in (charts ascending).
+using SeamNeighbours = std::vector<std::vector<std::pair<std::int32_t, std::int32_t>>>;
+
+/// The frame triangle whose map places vertex v of `patch` in `chart`: its own surface triangle
+/// when that lies in the chart, else, of the chart's triangles sharing a corner with it, the one
+/// that holds the vertex best (largest smallest barycentric weight; ties: first listed), so a
+/// vertex on a seam maps exactly where the chart has it. -1 when the chart is not next to it.
+std::int32_t map_triangle_for(const geom::TriangleMesh& frame, const geom::TextureAtlas& atlas,
+                              const SeamNeighbours& across_seam, const Patch& patch, std::size_t v,
+                              std::int32_t chart) {
+  const auto surface = patch.surface_triangle[v];
+  if (atlas.chart_of_triangle[std::size_t(surface)] == chart)
+    return surface;
+  std::int32_t best = -1;
+  double best_inside = -std::numeric_limits<double>::infinity();
+  for (const auto& [other_chart, other] : across_seam[std::size_t(surface)]) {
+    if (other_chart != chart)
+      continue;
+    const auto& tri = frame.triangles[std::size_t(other)];
+    const auto w = geom::barycentric_weights(
+        frame.positions[std::size_t(tri[0])], frame.positions[std::size_t(tri[1])],
+        frame.positions[std::size_t(tri[2])], patch.positions[v]);
+    const double inside = std::min({w[0], w[1], w[2]});
+    if (inside > best_inside) {
+      best_inside = inside;
+      best = other;
+    }
+  }
+  return best;
+}
+
+/// Triangle `index` of `patch` drawn into every chart its corners lie in and every chart across
+/// a seam next to a corner's triangle (in order of first mention). Each corner is mapped by its
+/// own map_triangle_for() triangle, so neighbouring patch triangles share their corners' images
+/// and leave no cracks; a corner with none in that chart borrows the triangle of the first
+/// corner that has one (the chart's map extended).
 std::vector<MappedTriangle> map_triangle(const geom::TriangleMesh& frame,
-                                         const geom::TextureAtlas& atlas, const Patch& patch,
+                                         const geom::TextureAtlas& atlas,
+                                         const SeamNeighbours& across_seam, const Patch& patch,
                                          std::size_t index) {
   const auto& corners = patch.triangles[index];
-  std::vector<MappedTriangle> mapped;
+  std::vector<std::int32_t> charts;
   for (int c = 0; c < 3; ++c) {
     const auto surface = patch.surface_triangle[std::size_t(corners[std::size_t(c)])];
-    const auto chart = atlas.chart_of_triangle[std::size_t(surface)];
+    charts.push_back(atlas.chart_of_triangle[std::size_t(surface)]);
+    for (const auto& [chart, triangle] : across_seam[std::size_t(surface)])
+      charts.push_back(chart);
+  }
+  std::vector<MappedTriangle> mapped;
+  for (const auto chart : charts) {
     if (std::any_of(mapped.begin(), mapped.end(),
                     [&](const MappedTriangle& m) { return m.chart == chart; }))
       continue;
+    std::array<std::int32_t, 3> through{};
+    std::int32_t fallback = -1;
+    for (int k = 0; k < 3; ++k) {
+      through[std::size_t(k)] = map_triangle_for(frame, atlas, across_seam, patch,
+                                                 std::size_t(corners[std::size_t(k)]), chart);
+      if (fallback < 0)
+        fallback = through[std::size_t(k)];
+    }
     MappedTriangle m;
     m.patch = patch.id;
     m.triangle = std::int32_t(index);
     m.chart = chart;
     for (int k = 0; k < 3; ++k) {
       const auto v = std::size_t(corners[std::size_t(k)]);
-      const Point2 xy = image_point(frame, atlas, surface, patch.positions[v]);
+      const auto t = through[std::size_t(k)] >= 0 ? through[std::size_t(k)] : fallback;
+      const Point2 xy = image_point(frame, atlas, t, patch.positions[v]);
       m.xy[k][0] = xy.x();
       m.xy[k][1] = xy.y();
       m.uv[k][0] = patch.rest_uv[v].x();
@@ -74,12 +124,12 @@ std::vector<MappedTriangle> map_triangle(const geom::TriangleMesh& frame,
   return mapped;
 }
 
-/// The sample of `m` at the centre of texel (x, y): nullopt when the centre is outside the
-/// mapped triangle (a degenerate image counts as outside) or the patch texel there is eroded.
-std::optional<TexelSample> sample_at(const MappedTriangle& m, int x, int y,
+/// The sample of `m` at a texel's sample point: nullopt when the point is outside the mapped
+/// triangle (a degenerate image counts as outside) or the patch texel there is eroded.
+std::optional<TexelSample> sample_at(const MappedTriangle& m, const std::array<float, 2>& point,
                                      const ErosionMask& erosion) {
   const Point2 a(m.xy[0][0], m.xy[0][1]), b(m.xy[1][0], m.xy[1][1]), c(m.xy[2][0], m.xy[2][1]);
-  const Point2 p(x + 0.5, y + 0.5);
+  const Point2 p(point[0], point[1]);
   const auto orient = [](const Point2& o, const Point2& s, const Point2& t) {
     return (s.x() - o.x()) * (t.y() - o.y()) - (s.y() - o.y()) * (t.x() - o.x());
   };
@@ -102,6 +152,18 @@ std::optional<TexelSample> sample_at(const MappedTriangle& m, int x, int y,
   return TexelSample{m.patch, float(uv.x()), float(uv.y())};
 }
 
+/// Where an atlas texel samples the patches: its centre when the centre lies in its chart, else
+/// (a gutter texel) the image of the chart point it shows.
+std::array<float, 2> sample_point(const geom::TextureAtlas& atlas, const geom::AtlasTexel& texel) {
+  const auto& corner = atlas.corner_uv[std::size_t(texel.triangle)];
+  const Point2 uv =
+      texel.weights[0] * corner[0] + texel.weights[1] * corner[1] + texel.weights[2] * corner[2];
+  const Point2 image(uv.x() * atlas.resolution, atlas.resolution * (1.0 - uv.y()));
+  const Point2 centre(texel.x + 0.5, texel.y + 0.5);
+  const Point2 at = (image - centre).norm() < 1e-6 ? centre : image;
+  return {float(at.x()), float(at.y())};
+}
+
 /// Texels whose centres may lie in the image of m: [x0, x1) x [y0, y1).
 geom::TexelRect texel_box(const MappedTriangle& m) {
   double lo[2] = {m.xy[0][0], m.xy[0][1]}, hi[2] = {lo[0], lo[1]};
@@ -115,6 +177,12 @@ geom::TexelRect texel_box(const MappedTriangle& m) {
   return {first(lo[0]), first(lo[1]), last(hi[0]), last(hi[1])};
 }
 
+/// `box` grown by `margin` texels on every side: gutter texels sample up to gutter x sqrt(2)
+/// texels from their centres.
+geom::TexelRect widened(const geom::TexelRect& box, int margin) {
+  return {box.x0 - margin, box.y0 - margin, box.x1 + margin, box.y1 + margin};
+}
+
 } // namespace
 
 AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh& frame,
@@ -123,6 +191,19 @@ AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh
     : comm_(comm), frame_(frame), atlas_(atlas), index_(frame, atlas),
       resolution_(atlas.resolution), tile_size_(tile_size), erosion_(erosion) {
   TEXSIM_VERIFY(tile_size > 0, "atlas tile size must be positive");
+  const geom::MeshTopology topology(frame);
+  across_seam_.resize(frame.triangles.size());
+  for (std::int32_t t = 0; t < frame.num_triangles(); ++t) {
+    auto& across = across_seam_[std::size_t(t)];
+    for (const auto corner : frame.triangles[std::size_t(t)])
+      for (const auto other : topology.vertex_triangles().row(corner)) {
+        const auto chart = atlas.chart_of_triangle[std::size_t(other)];
+        if (chart != atlas.chart_of_triangle[std::size_t(t)] &&
+            std::none_of(across.begin(), across.end(),
+                         [&](const auto& known) { return known.second == other; }))
+          across.emplace_back(chart, other);
+      }
+  }
   const int tiles = tile_count_per_side() * tile_count_per_side();
   for (int t = comm.rank; t < tiles; t += comm.size) {
     Tile tile;
@@ -131,11 +212,13 @@ AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh
     const auto count = std::size_t(width) * std::size_t(tile.rect.y1 - tile.rect.y0);
     tile.chart.assign(count, -1);
     tile.samples.assign(count, TexelSample{kUnusedTexel, 0, 0});
+    tile.sample_points.assign(count, {0.0f, 0.0f});
     for (const auto& texel : index_.texels_in(tile.rect)) {
       const auto i = std::size_t(texel.y - tile.rect.y0) * std::size_t(width) +
                      std::size_t(texel.x - tile.rect.x0);
       tile.chart[i] = atlas.chart_of_triangle[std::size_t(texel.triangle)];
       tile.samples[i].patch = kUncoveredTexel;
+      tile.sample_points[i] = sample_point(atlas, texel);
     }
     tiles_.push_back(std::move(tile));
     tile_ids_.push_back(t);
@@ -149,19 +232,14 @@ geom::TexelRect AtlasCompositor::tile_rect(int tile) const {
           std::min(resolution_, (ty + 1) * tile_size_)};
 }
 
-std::int32_t AtlasCompositor::chart_of_texel(int x, int y) const {
-  const auto texels = index_.texels_in({x, y, x + 1, y + 1});
-  return texels.empty() ? -1 : atlas_.chart_of_triangle[std::size_t(texels.front().triangle)];
-}
-
 void AtlasCompositor::composite(std::span<const Patch> local_patches) {
   // Route every mapped triangle to the owners of the tiles its texel box touches.
   std::vector<std::vector<MappedTriangle>> outgoing(std::size_t(comm_.size));
   const int per_side = tile_count_per_side();
   for (const auto& patch : local_patches)
     for (std::size_t i = 0; i < patch.triangles.size(); ++i)
-      for (auto& m : map_triangle(frame_, atlas_, patch, i)) {
-        const auto box = texel_box(m);
+      for (auto& m : map_triangle(frame_, atlas_, across_seam_, patch, i)) {
+        const auto box = widened(texel_box(m), atlas_.gutter + 1);
         const int tx0 = std::max(0, box.x0) / tile_size_,
                   tx1 = (std::min(resolution_, box.x1) - 1) / tile_size_;
         const int ty0 = std::max(0, box.y0) / tile_size_,
@@ -193,7 +271,7 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
     auto& slots = best[m.tile];
     if (slots.empty())
       slots.resize(tile.samples.size());
-    const auto box = texel_box(m);
+    const auto box = widened(texel_box(m), atlas_.gutter + 1);
     for (int y = std::max(box.y0, tile.rect.y0); y < std::min(box.y1, tile.rect.y1); ++y)
       for (int x = std::max(box.x0, tile.rect.x0); x < std::min(box.x1, tile.rect.x1); ++x) {
         const auto i =
@@ -203,7 +281,7 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
         auto& slot = slots[i];
         if (std::tie(m.patch, m.triangle) >= std::tie(slot.patch, slot.triangle))
           continue;
-        if (const auto sample = sample_at(m, x, y, erosion_))
+        if (const auto sample = sample_at(m, tile.sample_points[i], erosion_))
           slot = {m.patch, m.triangle, sample->u, sample->v};
       }
   }
@@ -215,14 +293,12 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
   }
 }
 
-std::optional<TexelSample> AtlasCompositor::patch_sample(const Patch& patch, int x, int y) const {
-  const auto chart = chart_of_texel(x, y);
-  if (chart < 0)
-    return std::nullopt;
+std::optional<TexelSample> AtlasCompositor::patch_sample(const Patch& patch,
+                                                         const UncoveredTexel& texel) const {
   for (std::size_t i = 0; i < patch.triangles.size(); ++i)
-    for (const auto& m : map_triangle(frame_, atlas_, patch, i))
-      if (m.chart == chart)
-        if (const auto sample = sample_at(m, x, y, erosion_))
+    for (const auto& m : map_triangle(frame_, atlas_, across_seam_, patch, i))
+      if (m.chart == texel.chart)
+        if (const auto sample = sample_at(m, texel.image, erosion_))
           return sample;
   return std::nullopt;
 }
@@ -265,7 +341,11 @@ std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_cou
     for (int c = 0; c < 3; ++c)
       position +=
           texels[0].weights[std::size_t(c)] * frame_.positions[std::size_t(tri[std::size_t(c)])];
-    uncovered.push_back({x, y, {position, texels[0].triangle}});
+    uncovered.push_back({x,
+                         y,
+                         atlas_.chart_of_triangle[std::size_t(texels[0].triangle)],
+                         {position, texels[0].triangle},
+                         sample_point(atlas_, texels[0])});
   }
   return uncovered;
 }

@@ -7,14 +7,16 @@
 /// rank i mod size, and only the owner stores a tile's texels. Patch triangles are mapped into the
 /// atlas through the positions of their vertices on the frame's surface (each corner's frame
 /// triangle and its chart's affine map; a triangle spanning charts is drawn into each of them by
-/// the local extension of that chart's map) and sent to the owners of the tiles their texel
-/// boxes touch. No per-texel tree queries.
+/// the local extension of that chart's map; so is one whose corner lies on a triangle next to a
+/// seam, into the charts across it, which covers the gutter there) and sent to the owners of the
+/// tiles their texel boxes touch. No per-texel tree queries.
 #include "geom/surface_point.hpp"
 #include "geom/texture_atlas.hpp"
 #include "par/comm.hpp"
 #include "pipelines/fluid_lapped/erosion_mask.hpp"
 #include "pipelines/fluid_lapped/patch.hpp"
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -31,10 +33,13 @@ inline constexpr std::int64_t kUnusedTexel = -2;      ///< no chart claims the t
 inline constexpr std::int64_t kUncoveredTexel = -1;   ///< no patch covers it (yet)
 inline constexpr std::int64_t kUnreachableTexel = -3; ///< given up: its own new patch missed it
 
-/// A used texel that no patch covers, and the surface point it shows.
+/// A used texel that no patch covers, its chart, the surface point it shows, and that point's
+/// image in the atlas (the texel centre, or for a gutter texel the nearest point of its chart).
 struct UncoveredTexel {
   int x = 0, y = 0;
+  std::int32_t chart = -1;
   geom::SurfacePoint point;
+  std::array<float, 2> image{};
 };
 
 /// Texel counts over the whole atlas.
@@ -62,11 +67,10 @@ public:
   /// Marks an uncovered texel as given up. Call on every rank with the same texel.
   void mark_unreachable(int x, int y);
 
-  /// What `patch` would give texel (x, y) if it lay alone on the surface: its lowest-index
-  /// triangle whose atlas image holds the texel centre and whose sample there is not eroded;
-  /// nullopt when there is none. Not collective; any rank, any texel (the texel's chart is found
-  /// from the atlas).
-  std::optional<TexelSample> patch_sample(const Patch& patch, int x, int y) const;
+  /// What `patch` would give `texel` if it lay alone on the surface: its lowest-index triangle
+  /// whose atlas image in the texel's chart holds the texel centre and whose sample there is not
+  /// eroded; nullopt when there is none. Not collective; any rank.
+  std::optional<TexelSample> patch_sample(const Patch& patch, const UncoveredTexel& texel) const;
 
   /// Ids of the patches that own at least one texel, sorted; the same on every rank. Collective.
   std::vector<std::int64_t> winning_patches() const;
@@ -85,13 +89,14 @@ private:
     geom::TexelRect rect;
     std::vector<std::int32_t> chart;  ///< per texel of rect, -1 when unused
     std::vector<TexelSample> samples; ///< per texel of rect
+    /// Where each texel samples the patches, in image coordinates: its centre, or for a gutter
+    /// texel the nearest point of its chart, so gutters continue their chart.
+    std::vector<std::array<float, 2>> sample_points;
   };
 
   int tile_count_per_side() const { return (resolution_ + tile_size_ - 1) / tile_size_; }
   geom::TexelRect tile_rect(int tile) const;
   int owner_of_tile(int tile) const { return tile % comm_.size; }
-  /// The chart of texel (x, y), -1 when unused (from the atlas: any rank).
-  std::int32_t chart_of_texel(int x, int y) const;
 
   par::Comm comm_;
   const geom::TriangleMesh& frame_;
@@ -99,6 +104,10 @@ private:
   geom::AtlasTexelIndex index_;
   int resolution_, tile_size_;
   const ErosionMask& erosion_;
+  /// For each frame triangle at a chart seam, the triangles of other charts sharing a corner
+  /// with it, as (chart, triangle): a patch triangle near a seam is also drawn into the charts
+  /// across it, so the gutter texels there are covered.
+  std::vector<std::vector<std::pair<std::int32_t, std::int32_t>>> across_seam_;
   std::vector<Tile> tiles_;   ///< this rank's tiles, in increasing tile order
   std::vector<int> tile_ids_; ///< their tile numbers
 };

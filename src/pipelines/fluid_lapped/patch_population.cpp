@@ -36,11 +36,11 @@ PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame
     for (const auto& candidate : candidates) {
       const auto& texel = uncovered[std::size_t(candidate.id - state.next_id)];
       const bool covered = std::any_of(accepted.begin(), accepted.end(), [&](const Patch* p) {
-        return compositor.patch_sample(*p, texel.x, texel.y).has_value();
+        return compositor.patch_sample(*p, texel).has_value();
       });
       if (covered) {
         ++report.rejected;
-      } else if (!compositor.patch_sample(candidate, texel.x, texel.y)) {
+      } else if (!compositor.patch_sample(candidate, texel)) {
         compositor.mark_unreachable(texel.x, texel.y);
         ++report.rejected;
       } else {
