@@ -29,6 +29,8 @@ EXPECTED = {
     "partition": (["elephant_cut_scotch_2", "elephant_cut_morton_2", "elephant_cut_ratio_3"], []),
     "raw-scan": (["fem_jacobi_cg_iterations_per_step", "fem_auto_cg_iterations_per_step",
                   "turk_substeps", "vertices"], []),
+    "fluid": (["frame_s_n2", "frame_s_n1", "advect_s", "update_s", "create_s", "atlas_s",
+               "write_s", "speedup_1_to_2", "patches"], []),
     "surface-synthesis": (["relax_s_n2", "exact_s_n2", "tsvq_s_n2", "pruned_s_n2",
                            "speedup_1_to_2", "neighbourhood_error_exact", "neighbourhood_error_tsvq",
                            "neighbourhood_error_pruned", "tsvq_exact_fraction"], []),

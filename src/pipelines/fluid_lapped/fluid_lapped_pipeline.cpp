@@ -25,6 +25,8 @@
 
 #include <mpi.h>
 
+#include <map>
+
 namespace texsim::pipelines::fluid_lapped {
 namespace {
 
@@ -141,6 +143,14 @@ void carry_patches(const VelocityField& velocity, double t0, double t1,
   std::erase_if(state.patches, [](const Patch& patch) { return patch.triangles.empty(); });
 }
 
+/// Seconds spent so far in every stage, by name.
+std::map<std::string, double> stage_seconds(const StageTimers& timers) {
+  std::map<std::string, double> seconds;
+  for (const auto& stage : timers.stages())
+    seconds[stage.name] = stage.wall_s;
+  return seconds;
+}
+
 } // namespace
 
 void FluidLappedPipeline::configure(const ConfigSection& section, const RunSettings&) {
@@ -213,6 +223,7 @@ void FluidLappedPipeline::run(RunContext& ctx) {
     previous_surface.emplace(animation.frame(first - 1).frame.mesh);
   }
   for (int k = first; k < animation.count(); ++k) {
+    const auto stages_before = stage_seconds(ctx.timers);
     std::optional<PreparedFrame> prepared;
     {
       auto stage = ctx.timers.scope("frames");
@@ -228,11 +239,15 @@ void FluidLappedPipeline::run(RunContext& ctx) {
       carry_patches(velocity, animation.time(k - 1), animation.time(k), *previous_surface, surface,
                     settings_, state, ctx.timers);
     }
-    PopulationReport populated;
     std::optional<AtlasCompositor> compositor;
     {
-      auto stage = ctx.timers.scope("create");
+      auto stage = ctx.timers.scope("atlas");
       compositor.emplace(comm, surface.mesh, prepared->atlas, settings_.atlas.tile, erosion);
+      compositor->composite(state.patches);
+    }
+    PopulationReport populated;
+    {
+      auto stage = ctx.timers.scope("create");
       populated = populate_frame(comm, surface, *compositor, state, population);
       state.frame = k;
     }
@@ -248,8 +263,12 @@ void FluidLappedPipeline::run(RunContext& ctx) {
       state.patches =
           exchange_patches(comm, state.patches, morton_destinations(comm, state.patches));
     }
+    nlohmann::json seconds;
+    for (const auto& [name, total] : stage_seconds(ctx.timers))
+      seconds[name] = total - (stages_before.contains(name) ? stages_before.at(name) : 0.0);
     frame_metrics.push_back(
         {{"frame", k},
+         {"seconds", seconds},
          {"time", animation.time(k)},
          {"patches", populated.patches},
          {"created", populated.created},

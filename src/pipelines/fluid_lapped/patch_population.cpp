@@ -15,7 +15,6 @@ PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame
                                 AtlasCompositor& compositor, PatchState& state,
                                 const PopulationSettings& settings) {
   PopulationReport report;
-  compositor.composite(state.patches);
   for (;;) {
     const auto uncovered = compositor.first_uncovered(std::size_t(settings.batch));
     if (uncovered.empty())

@@ -28,8 +28,9 @@ struct PopulationReport {
   int rounds = 0;            ///< candidate rounds
 };
 
-/// Composites `state.patches` (this rank's, any split) into `compositor`, then adds patches until
-/// every used texel is covered or unreachable, and drops the patches that won no texel. New
+/// After `state.patches` (this rank's, any split) were composited into `compositor`, adds
+/// patches until every used texel is covered or unreachable, and drops the patches that won no
+/// texel. New
 /// patches take ids state.next_id, state.next_id + 1, ... in the order of their texels (ids of
 /// rejected candidates are skipped, so ids never depend on the rank count) and are built by
 /// rank i mod size in parallel; acceptance runs in texel order on every rank. A texel whose own
