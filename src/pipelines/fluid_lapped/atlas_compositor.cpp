@@ -153,15 +153,22 @@ std::optional<TexelSample> sample_at(const MappedTriangle& m, const std::array<f
 }
 
 /// Where an atlas texel samples the patches: its centre when the centre lies in its chart, else
-/// (a gutter texel) the image of the chart point it shows.
+/// (a gutter texel) the image of the chart point it shows, moved 1e-3 texel into its triangle:
+/// that point lies on the chart's border, where the float it is stored in could round it out of
+/// the patch triangles drawn up to the border.
 std::array<float, 2> sample_point(const geom::TextureAtlas& atlas, const geom::AtlasTexel& texel) {
   const auto& corner = atlas.corner_uv[std::size_t(texel.triangle)];
-  const Point2 uv =
-      texel.weights[0] * corner[0] + texel.weights[1] * corner[1] + texel.weights[2] * corner[2];
-  const Point2 image(uv.x() * atlas.resolution, atlas.resolution * (1.0 - uv.y()));
+  const auto image = [&](const Point2& uv) {
+    return Point2(uv.x() * atlas.resolution, atlas.resolution * (1.0 - uv.y()));
+  };
+  const Point2 at = image(texel.weights[0] * corner[0] + texel.weights[1] * corner[1] +
+                          texel.weights[2] * corner[2]);
   const Point2 centre(texel.x + 0.5, texel.y + 0.5);
-  const Point2 at = (image - centre).norm() < 1e-6 ? centre : image;
-  return {float(at.x()), float(at.y())};
+  if ((at - centre).norm() < 1e-6)
+    return {float(centre.x()), float(centre.y())};
+  const Point2 inward = image((corner[0] + corner[1] + corner[2]) / 3.0) - at;
+  const Point2 inside = at + 1e-3 * inward / std::max(inward.norm(), 1e-3);
+  return {float(inside.x()), float(inside.y())};
 }
 
 /// Texels whose centres may lie in the image of m: [x0, x1) x [y0, y1).
