@@ -18,18 +18,6 @@ namespace {
 
 using Point2 = Eigen::Vector2d;
 
-/// A patch triangle drawn into one chart: its corners in image coordinates (x right, y down,
-/// texel (x, y) covering [x, x + 1] x [y, y + 1]) with the rest uv and weight at each corner.
-struct MappedTriangle {
-  std::int64_t patch = 0;
-  std::int32_t triangle = 0; ///< index in the patch
-  std::int32_t chart = 0;
-  std::int32_t tile = 0; ///< the tile this copy is for (routing)
-  double xy[3][2] = {};
-  double uv[3][2] = {};
-  double weight[3] = {};
-};
-
 /// Image coordinates of a surface point q near frame triangle t, through t's affine map into
 /// its chart (q projected into t's plane, barycentric weights not clamped).
 Point2 image_point(const geom::TriangleMesh& frame, const geom::TextureAtlas& atlas, std::int32_t t,
@@ -218,12 +206,14 @@ AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh
     const int width = tile.rect.x1 - tile.rect.x0;
     const auto count = std::size_t(width) * std::size_t(tile.rect.y1 - tile.rect.y0);
     tile.chart.assign(count, -1);
+    tile.triangle.assign(count, -1);
     tile.samples.assign(count, TexelSample{kUnusedTexel, 0, 0});
     tile.sample_points.assign(count, {0.0f, 0.0f});
     for (const auto& texel : index_.texels_in(tile.rect)) {
       const auto i = std::size_t(texel.y - tile.rect.y0) * std::size_t(width) +
                      std::size_t(texel.x - tile.rect.x0);
       tile.chart[i] = atlas.chart_of_triangle[std::size_t(texel.triangle)];
+      tile.triangle[i] = texel.triangle;
       tile.samples[i].patch = kUncoveredTexel;
       tile.sample_points[i] = sample_point(atlas, texel);
     }
@@ -300,59 +290,85 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
   }
 }
 
-std::optional<TexelSample> AtlasCompositor::patch_sample(const Patch& patch,
-                                                         const UncoveredTexel& texel) const {
+PatchImage AtlasCompositor::image_of(const Patch& patch) const {
+  PatchImage image;
   for (std::size_t i = 0; i < patch.triangles.size(); ++i)
     for (const auto& m : map_triangle(frame_, atlas_, across_seam_, patch, i))
-      if (m.chart == texel.chart)
-        if (const auto sample = sample_at(m, texel.image, erosion_))
-          return sample;
+      image.triangles.push_back(m);
+  return image;
+}
+
+std::optional<TexelSample> AtlasCompositor::patch_sample(const PatchImage& image,
+                                                         const UncoveredTexel& texel) const {
+  for (const auto& m : image.triangles) {
+    if (m.chart != texel.chart)
+      continue;
+    const auto box = widened(texel_box(m), atlas_.gutter + 1);
+    if (texel.x < box.x0 || texel.x >= box.x1 || texel.y < box.y0 || texel.y >= box.y1)
+      continue;
+    if (const auto sample = sample_at(m, texel.image, erosion_))
+      return sample;
+  }
   return std::nullopt;
 }
 
 std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_count) const {
-  // Each rank's first max_count uncovered texels (as linear indices), then the first of all.
-  std::vector<std::int64_t> mine;
+  // Each rank's first max_count uncovered texels, then the first of all ranks'.
+  struct Found {
+    std::int64_t index; ///< y * resolution + x
+    std::int32_t chart, triangle;
+    std::array<float, 2> image;
+  };
+  std::vector<Found> mine;
   for (const auto& tile : tiles_) {
     const int width = tile.rect.x1 - tile.rect.x0;
     std::size_t found = 0;
     for (std::size_t i = 0; i < tile.samples.size() && found < max_count; ++i)
       if (tile.samples[i].patch == kUncoveredTexel) {
-        mine.push_back(std::int64_t(tile.rect.y0 + int(i) / width) * resolution_ + tile.rect.x0 +
-                       int(i) % width);
+        mine.push_back({std::int64_t(tile.rect.y0 + int(i) / width) * resolution_ + tile.rect.x0 +
+                            int(i) % width,
+                        tile.chart[i], tile.triangle[i], tile.sample_points[i]});
         ++found;
       }
   }
-  std::sort(mine.begin(), mine.end());
+  const auto earlier = [](const Found& a, const Found& b) { return a.index < b.index; };
+  std::sort(mine.begin(), mine.end(), earlier);
   if (mine.size() > max_count)
     mine.resize(max_count);
-  int count = int(mine.size());
+  const int bytes = int(mine.size() * sizeof(Found));
   std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
+  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
   for (int r = 1; r < comm_.size; ++r)
     offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-  std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
-                 MPI_INT64_T, comm_.raw);
-  std::sort(all.begin(), all.end());
+  std::vector<Found> all(std::size_t(offsets.back() + counts.back()) / sizeof(Found));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                 comm_.raw);
+  std::sort(all.begin(), all.end(), earlier);
   if (all.size() > max_count)
     all.resize(max_count);
   std::vector<UncoveredTexel> uncovered;
-  for (const auto index : all) {
-    const int x = int(index % resolution_), y = int(index / resolution_);
-    const auto texels = index_.texels_in({x, y, x + 1, y + 1});
-    TEXSIM_VERIFY(texels.size() == 1,
-                  "uncovered texel (" << x << ", " << y << ") not in the atlas");
-    const auto& tri = frame_.triangles[std::size_t(texels[0].triangle)];
-    geom::Vec3 position = geom::Vec3::Zero();
-    for (int c = 0; c < 3; ++c)
-      position +=
-          texels[0].weights[std::size_t(c)] * frame_.positions[std::size_t(tri[std::size_t(c)])];
-    uncovered.push_back({x,
-                         y,
-                         atlas_.chart_of_triangle[std::size_t(texels[0].triangle)],
-                         {position, texels[0].triangle},
-                         sample_point(atlas_, texels[0])});
+  for (const auto& found : all) {
+    // The surface point under the texel's sample point, through its triangle's uv image.
+    const auto& corner = atlas_.corner_uv[std::size_t(found.triangle)];
+    const auto image = [&](const Point2& uv) {
+      return Point2(uv.x() * resolution_, resolution_ * (1.0 - uv.y()));
+    };
+    const Point2 a = image(corner[0]), b = image(corner[1]), c = image(corner[2]);
+    const Point2 p(found.image[0], found.image[1]);
+    const auto cross = [](const Point2& u, const Point2& v) {
+      return u.x() * v.y() - u.y() * v.x();
+    };
+    const double area = cross(b - a, c - a);
+    const double wb = cross(p - a, c - a) / area, wc = cross(b - a, p - a) / area;
+    const auto& tri = frame_.triangles[std::size_t(found.triangle)];
+    const geom::Vec3 position = (1 - wb - wc) * frame_.positions[std::size_t(tri[0])] +
+                                wb * frame_.positions[std::size_t(tri[1])] +
+                                wc * frame_.positions[std::size_t(tri[2])];
+    uncovered.push_back({int(found.index % resolution_),
+                         int(found.index / resolution_),
+                         found.chart,
+                         {position, found.triangle},
+                         found.image});
   }
   return uncovered;
 }

@@ -33,6 +33,24 @@ inline constexpr std::int64_t kUnusedTexel = -2;      ///< no chart claims the t
 inline constexpr std::int64_t kUncoveredTexel = -1;   ///< no patch covers it (yet)
 inline constexpr std::int64_t kUnreachableTexel = -3; ///< given up: its own new patch missed it
 
+/// A patch triangle drawn into one chart: its corners in image coordinates (x right, y down,
+/// texel (x, y) covering [x, x + 1] x [y, y + 1]) with the rest uv and weight at each corner.
+struct MappedTriangle {
+  std::int64_t patch = 0;
+  std::int32_t triangle = 0; ///< index in the patch
+  std::int32_t chart = 0;
+  std::int32_t tile = 0; ///< the tile this copy is for (routing)
+  double xy[3][2] = {};
+  double uv[3][2] = {};
+  double weight[3] = {};
+};
+
+/// A patch drawn into the atlas (every triangle in every chart it reaches, triangles in order),
+/// to ask patch_sample() about many texels.
+struct PatchImage {
+  std::vector<MappedTriangle> triangles;
+};
+
 /// A used texel that no patch covers, its chart, the surface point it shows, and that point's
 /// image in the atlas (the texel centre, or for a gutter texel the nearest point of its chart).
 struct UncoveredTexel {
@@ -67,10 +85,15 @@ public:
   /// Marks an uncovered texel as given up. Call on every rank with the same texel.
   void mark_unreachable(int x, int y);
 
-  /// What `patch` would give `texel` if it lay alone on the surface: its lowest-index triangle
+  /// What a patch (drawn by image_of) would give `texel` if it lay alone on the surface: its
+  /// lowest-index triangle
   /// whose atlas image in the texel's chart holds the texel centre and whose sample there is not
   /// eroded; nullopt when there is none. Not collective; any rank.
-  std::optional<TexelSample> patch_sample(const Patch& patch, const UncoveredTexel& texel) const;
+  std::optional<TexelSample> patch_sample(const PatchImage& image,
+                                          const UncoveredTexel& texel) const;
+
+  /// `patch` drawn into the atlas as composite() draws it. Not collective.
+  PatchImage image_of(const Patch& patch) const;
 
   /// Ids of the patches that own at least one texel, sorted; the same on every rank. Collective.
   std::vector<std::int64_t> winning_patches() const;
@@ -87,8 +110,9 @@ public:
 private:
   struct Tile {
     geom::TexelRect rect;
-    std::vector<std::int32_t> chart;  ///< per texel of rect, -1 when unused
-    std::vector<TexelSample> samples; ///< per texel of rect
+    std::vector<std::int32_t> chart;    ///< per texel of rect, -1 when unused
+    std::vector<std::int32_t> triangle; ///< the frame triangle each texel shows
+    std::vector<TexelSample> samples;   ///< per texel of rect
     /// Where each texel samples the patches, in image coordinates: its centre, or for a gutter
     /// texel the nearest point of its chart, so gutters continue their chart.
     std::vector<std::array<float, 2>> sample_points;

@@ -30,12 +30,12 @@ struct PopulationReport {
 
 /// After `state.patches` (this rank's, any split) were composited into `compositor`, adds
 /// patches until every used texel is covered or unreachable, and drops the patches that won no
-/// texel. New
-/// patches take ids state.next_id, state.next_id + 1, ... in the order of their texels (ids of
-/// rejected candidates are skipped, so ids never depend on the rank count) and are built by
-/// rank i mod size in parallel; acceptance runs in texel order on every rank. A texel whose own
-/// new patch does not cover it (its centre triangle was rejected) is marked unreachable instead
-/// of looping. Collective.
+/// texel. The paper's order exactly: a round walks the first uncovered texels in atlas order,
+/// skips those an accepted new patch covers, builds candidates for the next `batch` of the rest
+/// (candidate i on rank i mod size, id next_id + i), and accepts them in texel order, dropping a
+/// candidate whose texel an earlier one covers; ids of dropped candidates are skipped, so ids
+/// never depend on the rank count. A texel whose own new patch does not cover it (its centre
+/// triangle rejected) is marked unreachable instead of looping. Collective.
 PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame,
                                 AtlasCompositor& compositor, PatchState& state,
                                 const PopulationSettings& settings);
