@@ -162,6 +162,24 @@ RgbImage read_image(const std::filesystem::path& path) {
   return from_vtk(*reader->GetOutput(), path);
 }
 
+namespace {
+
+/// Writes `data` (rows bottom to top, VTK's order) as a PNG at `path`, atomically.
+void write_png_atomically(const std::filesystem::path& path, vtkImageData* data) {
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    vtk::ErrorCapture capture;
+    vtkNew<vtkPNGWriter> writer;
+    capture.watch(writer);
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(data);
+    writer->Write();
+    TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
+                  path.string() << ": cannot write PNG: " << capture.errors());
+  });
+}
+
+} // namespace
+
 void write_png(const std::filesystem::path& path, const RgbImage& image) {
   vtkNew<vtkImageData> data;
   data->SetDimensions(image.width(), image.height(), 1);
@@ -178,17 +196,7 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
     }
   }
   data->GetPointData()->SetScalars(scalars);
-
-  write_atomically(path, [&](const std::filesystem::path& temporary) {
-    vtk::ErrorCapture capture;
-    vtkNew<vtkPNGWriter> writer;
-    capture.watch(writer);
-    writer->SetFileName(temporary.c_str());
-    writer->SetInputData(data);
-    writer->Write();
-    TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
-                  path.string() << ": cannot write PNG: " << capture.errors());
-  });
+  write_png_atomically(path, data);
 }
 
 void write_png16(const std::filesystem::path& path, std::span<const std::uint16_t> values,
@@ -206,16 +214,7 @@ void write_png16(const std::filesystem::path& path, std::span<const std::uint16_
       scalars->SetValue(static_cast<vtkIdType>(j) * width + i,
                         values[std::size_t(height - 1 - j) * std::size_t(width) + std::size_t(i)]);
   data->GetPointData()->SetScalars(scalars);
-  write_atomically(path, [&](const std::filesystem::path& temporary) {
-    vtk::ErrorCapture capture;
-    vtkNew<vtkPNGWriter> writer;
-    capture.watch(writer);
-    writer->SetFileName(temporary.c_str());
-    writer->SetInputData(data);
-    writer->Write();
-    TEXSIM_VERIFY(!capture.has_errors() && writer->GetErrorCode() == 0,
-                  path.string() << ": cannot write PNG: " << capture.errors());
-  });
+  write_png_atomically(path, data);
 }
 
 RgbImage quantize_8bit(const RgbImage& image) {

@@ -13,6 +13,7 @@
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPNGReader.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkUnsignedShortArray.h>
@@ -221,6 +222,26 @@ TEST(ImageIoOnRealData, TruncatedJpegIsAnInputError) {
   std::filesystem::resize_file(truncated, std::filesystem::file_size(jpeg) / 2);
   EXPECT_NE(test::input_error_message([&] { read_image(truncated); }).find(truncated.string()),
             std::string::npos);
+}
+
+TEST(WritePng16, KeepsEverySixteenBitValueAndTheRowOrder) {
+  const int width = 7, height = 4;
+  std::vector<std::uint16_t> values;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      values.push_back(std::uint16_t(9000 * y + 1000 * x + 65535 % (x + 2)));
+  const auto path = std::filesystem::temp_directory_path() / "texsim_png16.png";
+  write_png16(path, values, width, height);
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  auto* scalars = reader->GetOutput()->GetPointData()->GetScalars();
+  ASSERT_EQ(scalars->GetDataType(), VTK_UNSIGNED_SHORT);
+  for (int j = 0; j < height; ++j) // VTK's row j is our row height - 1 - j
+    for (int x = 0; x < width; ++x)
+      EXPECT_EQ(scalars->GetTuple1(vtkIdType(j) * width + x),
+                values[std::size_t(height - 1 - j) * width + std::size_t(x)]);
+  std::filesystem::remove(path);
 }
 
 } // namespace
