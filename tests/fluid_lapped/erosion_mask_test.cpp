@@ -74,7 +74,8 @@ TEST(ErosionMask, FullWeightKeepsTheCentreZeroWeightErodesAllAndErosionFallsWith
     bool was_eroded = true;
     for (double w = 0.0; w <= 1.0; w += 0.05) {
       const bool eroded = mask.eroded(uv, w);
-      EXPECT_TRUE(was_eroded || !eroded) << "eroded again at w = " << w << ", uv " << uv.transpose();
+      EXPECT_TRUE(was_eroded || !eroded)
+          << "eroded again at w = " << w << ", uv " << uv.transpose();
       was_eroded = eroded;
     }
   }
