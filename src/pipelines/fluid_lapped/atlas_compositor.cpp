@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <tuple>
 
 namespace texsim::pipelines::fluid_lapped {
@@ -172,9 +171,13 @@ geom::TexelRect texel_box(const MappedTriangle& m) {
   return {first(lo[0]), first(lo[1]), last(hi[0]), last(hi[1])};
 }
 
-/// `box` grown by `margin` texels on every side: gutter texels sample up to gutter x sqrt(2)
-/// texels from their centres.
-geom::TexelRect widened(const geom::TexelRect& box, int margin) {
+/// The texels that may sample a point of m's image: texel_box(m) grown on every side by the
+/// farthest a gutter texel samples from its centre. That is its chart's nearest point, within
+/// `gutter` texels in max-norm of the centre but up to sqrt(2) x gutter texels away (1.21 x
+/// gutter in max-norm along a border slanted by 22.5 degrees), plus a texel for rounding.
+geom::TexelRect sampling_box(const MappedTriangle& m, int gutter) {
+  const auto box = texel_box(m);
+  const int margin = int(std::ceil(std::sqrt(2.0) * gutter)) + 1;
   return {box.x0 - margin, box.y0 - margin, box.x1 + margin, box.y1 + margin};
 }
 
@@ -236,7 +239,7 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
   for (const auto& patch : local_patches)
     for (std::size_t i = 0; i < patch.triangles.size(); ++i)
       for (auto& m : map_triangle(frame_, atlas_, across_seam_, patch, i)) {
-        const auto box = widened(texel_box(m), atlas_.gutter + 1);
+        const auto box = sampling_box(m, atlas_.gutter);
         const int tx0 = std::max(0, box.x0) / tile_size_,
                   tx1 = (std::min(resolution_, box.x1) - 1) / tile_size_;
         const int ty0 = std::max(0, box.y0) / tile_size_,
@@ -249,44 +252,45 @@ void AtlasCompositor::composite(std::span<const Patch> local_patches) {
             outgoing[std::size_t(owner_of_tile(m.tile))].push_back(m);
           }
       }
-  const auto received = par::exchange_records(comm_, outgoing);
+  auto received = par::exchange_records(comm_, outgoing);
 
-  // Per texel the best (patch, triangle) of this call; commit at the end, so the arrival order
-  // of the records does not matter.
+  // A tile at a time (so the working slots follow one tile, not all of this rank's), per texel
+  // the best (patch, triangle) of this call; committed when the tile is done, so the arrival
+  // order of the records does not matter.
+  std::sort(received.begin(), received.end(),
+            [](const MappedTriangle& a, const MappedTriangle& b) { return a.tile < b.tile; });
   struct Best {
     std::int64_t patch = std::numeric_limits<std::int64_t>::max();
     std::int32_t triangle = 0;
     float u = 0, v = 0;
   };
-  std::map<int, std::vector<Best>> best;
-  std::map<int, std::size_t> local_tile;
-  for (std::size_t i = 0; i < tile_ids_.size(); ++i)
-    local_tile[tile_ids_[i]] = i;
-  for (const auto& m : received) {
-    auto& tile = tiles_[local_tile.at(m.tile)];
+  std::vector<Best> slots;
+  for (auto first = received.begin(); first != received.end();) {
+    const auto last = std::find_if(first, received.end(),
+                                   [&](const MappedTriangle& m) { return m.tile != first->tile; });
+    const auto at = std::lower_bound(tile_ids_.begin(), tile_ids_.end(), first->tile);
+    auto& tile = tiles_[std::size_t(at - tile_ids_.begin())];
     const int width = tile.rect.x1 - tile.rect.x0;
-    auto& slots = best[m.tile];
-    if (slots.empty())
-      slots.resize(tile.samples.size());
-    const auto box = widened(texel_box(m), atlas_.gutter + 1);
-    for (int y = std::max(box.y0, tile.rect.y0); y < std::min(box.y1, tile.rect.y1); ++y)
-      for (int x = std::max(box.x0, tile.rect.x0); x < std::min(box.x1, tile.rect.x1); ++x) {
-        const auto i =
-            std::size_t(y - tile.rect.y0) * std::size_t(width) + std::size_t(x - tile.rect.x0);
-        if (tile.samples[i].patch != kUncoveredTexel || tile.chart[i] != m.chart)
-          continue;
-        auto& slot = slots[i];
-        if (std::tie(m.patch, m.triangle) >= std::tie(slot.patch, slot.triangle))
-          continue;
-        if (const auto sample = sample_at(m, tile.sample_points[i], erosion_))
-          slot = {m.patch, m.triangle, sample->u, sample->v};
-      }
-  }
-  for (auto& [tile_id, slots] : best) {
-    auto& tile = tiles_[local_tile.at(tile_id)];
+    slots.assign(tile.samples.size(), Best{});
+    for (const auto& m : std::span(first, last)) {
+      const auto box = sampling_box(m, atlas_.gutter);
+      for (int y = std::max(box.y0, tile.rect.y0); y < std::min(box.y1, tile.rect.y1); ++y)
+        for (int x = std::max(box.x0, tile.rect.x0); x < std::min(box.x1, tile.rect.x1); ++x) {
+          const auto i =
+              std::size_t(y - tile.rect.y0) * std::size_t(width) + std::size_t(x - tile.rect.x0);
+          if (tile.samples[i].patch != kUncoveredTexel || tile.chart[i] != m.chart)
+            continue;
+          auto& slot = slots[i];
+          if (std::tie(m.patch, m.triangle) >= std::tie(slot.patch, slot.triangle))
+            continue;
+          if (const auto sample = sample_at(m, tile.sample_points[i], erosion_))
+            slot = {m.patch, m.triangle, sample->u, sample->v};
+        }
+    }
     for (std::size_t i = 0; i < slots.size(); ++i)
       if (slots[i].patch != std::numeric_limits<std::int64_t>::max())
         tile.samples[i] = {slots[i].patch, slots[i].u, slots[i].v};
+    first = last;
   }
 }
 
@@ -303,7 +307,7 @@ std::optional<TexelSample> AtlasCompositor::patch_sample(const PatchImage& image
   for (const auto& m : image.triangles) {
     if (m.chart != texel.chart)
       continue;
-    const auto box = widened(texel_box(m), atlas_.gutter + 1);
+    const auto box = sampling_box(m, atlas_.gutter);
     if (texel.x < box.x0 || texel.x >= box.x1 || texel.y < box.y0 || texel.y >= box.y1)
       continue;
     if (const auto sample = sample_at(m, texel.image, erosion_))
