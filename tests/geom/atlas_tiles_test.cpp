@@ -29,7 +29,8 @@ TEST(AtlasTexelIndex, AnyTilingGivesTheTexelsOfTheWholeAtlas) {
     std::vector<AtlasTexel> tiled;
     for (int y = 0; y < 128; y += tile)
       for (int x = 0; x < 128; x += tile)
-        for (const auto& t : index.texels_in({x, y, std::min(128, x + tile), std::min(128, y + tile)}))
+        for (const auto& t :
+             index.texels_in({x, y, std::min(128, x + tile), std::min(128, y + tile)}))
           tiled.push_back(t);
     std::sort(tiled.begin(), tiled.end(), [](const AtlasTexel& a, const AtlasTexel& b) {
       return std::tie(a.y, a.x) < std::tie(b.y, b.x);
