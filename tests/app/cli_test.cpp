@@ -104,7 +104,8 @@ TEST(Cli, UnknownPipelineListsTheRegisteredOnes) {
   const auto config = write_file(dir / "p.yaml", "pipeline: warp_drive\n");
   const auto outcome = run_command(texsim_command() + " validate " + config.string());
   EXPECT_EQ(outcome.exit_code, 2);
-  EXPECT_NE(outcome.output.find("pipeline: expected one of fem_rd, mesh_prep"), std::string::npos)
+  EXPECT_NE(outcome.output.find("pipeline: expected one of fem_rd, fluid_lapped, mesh_prep"),
+            std::string::npos)
       << outcome.output;
 }
 

@@ -1,8 +1,10 @@
-// Gagnon et al. 2021, Fig. 16: the texture follows the fluid. The plane vortex with the identity
-// chart (atlas = orthographic rendering of the square) is run through the binary; the pyramidal
-// Lucas-Kanade flow between consecutive atlas images is compared with the flow's own displacement
-// of each texel's point over the frame, where the texel shows the same patch in both frames.
-// The Lucas-Kanade code is first checked on a known sub-pixel translation.
+// fluid_lapped's images through the binary. Every covered texel of an atlas shows the exemplar
+// texel under the (patch, uv) its patch-id image records, and the 16-bit displacement image the
+// displacement exemplar's there. Gagnon et al. 2021, Fig. 16: the texture follows the fluid. The
+// plane vortex with the identity chart (atlas = orthographic rendering of the square) is run; the
+// pyramidal Lucas-Kanade flow between consecutive atlas images is compared with the flow's own
+// displacement of each texel's point over the frame, where the texel shows the same patch in
+// both frames. The Lucas-Kanade code is first checked on a known sub-pixel translation.
 #include "img/image_io.hpp"
 #include "pipelines/fluid_lapped/analytic_flows.hpp"
 #include "support/optical_flow.hpp"
@@ -12,6 +14,7 @@
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPNGReader.h>
 #include <vtkPointData.h>
 #include <vtkXMLImageDataReader.h>
 
@@ -64,21 +67,86 @@ GreyPicture luminance(const fs::path& png) {
   return grey;
 }
 
-/// The patch-id image of a frame, rows from the top like the PNG.
-std::vector<std::int64_t> patch_ids(const fs::path& vti) {
+/// Component `component` of array `name` of a frame's patch-id image, rows from the top like the
+/// PNG.
+std::vector<double> texel_array(const fs::path& vti, const char* name, int component = 0) {
   vtkNew<vtkXMLImageDataReader> reader;
   reader->SetFileName(vti.c_str());
   reader->Update();
   auto* image = reader->GetOutput();
   int dims[3];
   image->GetDimensions(dims);
-  auto* ids = image->GetPointData()->GetArray("patch_id");
-  std::vector<std::int64_t> top_down(std::size_t(dims[0]) * dims[1]);
+  auto* values = image->GetPointData()->GetArray(name);
+  std::vector<double> top_down(std::size_t(dims[0]) * dims[1]);
   for (int j = 0; j < dims[1]; ++j)
     for (int i = 0; i < dims[0]; ++i)
       top_down[std::size_t(dims[1] - 1 - j) * dims[0] + i] =
-          std::int64_t(ids->GetTuple1(vtkIdType(j) * dims[0] + i));
+          values->GetComponent(vtkIdType(j) * dims[0] + i, component);
   return top_down;
+}
+
+std::vector<std::int64_t> patch_ids(const fs::path& vti) {
+  const auto values = texel_array(vti, "patch_id");
+  return {values.begin(), values.end()};
+}
+
+TEST(FluidLappedOutputs, EveryCoveredTexelShowsTheExemplarTexelAtItsPatchUv) {
+  const auto out = fs::temp_directory_path() / "texsim_fluid_outputs";
+  fs::remove_all(out);
+  const fs::path exemplar = kSource / "data/images/pebbles05.png";
+  const fs::path heights = kSource / "data/images/rock01.png";
+  const auto run = texsim::test::run_command(
+      texsim::test::texsim_under_mpirun(3) + " " +
+          (kSource / "config/fluid_lapped/sphere_shear.yaml").string() +
+          " --quiet --set fluid_lapped.frames.count=2 --set fluid_lapped.frames.mesh.level=3"
+          " --set fluid_lapped.atlas.resolution=192 --set fluid_lapped.atlas.tile=64"
+          " --set fluid_lapped.exemplar.image=" +
+          exemplar.string() + " --set fluid_lapped.exemplar.displacement=" + heights.string() +
+          " --set output.every=1 --set output.dir=" + out.string(),
+      kSource);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto colours = texsim::img::read_image(exemplar);
+  const auto displacement = texsim::img::read_image(heights);
+  const int w = colours.width(), h = colours.height();
+  for (const char* frame : {"0000", "0001"}) {
+    const auto atlas =
+        texsim::img::read_image(out / (std::string("atlas/atlas_") + frame + ".png"));
+    const auto ids =
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "patch_id");
+    const auto u =
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "uv", 0);
+    const auto v =
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "uv", 1);
+    vtkNew<vtkPNGReader> png16;
+    png16->SetFileName(
+        (out / (std::string("displacement/displacement_") + frame + ".png")).c_str());
+    png16->Update();
+    auto* height_values = png16->GetOutput()->GetPointData()->GetScalars();
+    ASSERT_EQ(height_values->GetDataType(), VTK_UNSIGNED_SHORT);
+    std::size_t covered = 0;
+    for (int y = 0; y < atlas.height(); ++y)
+      for (int x = 0; x < atlas.width(); ++x) {
+        const auto i = std::size_t(y) * atlas.width() + x;
+        if (ids[i] < 0)
+          continue;
+        ++covered;
+        // The exemplar spans uv [0, 1]^2 with v up and repeats: the texel holding (u, v).
+        const auto wrap = [](double t, int n) {
+          return int(((long(std::floor(t * n)) % n) + n) % n);
+        };
+        const int ex = wrap(float(u[i]), w), ey = h - 1 - wrap(float(v[i]), h);
+        const auto& want = colours.at(ex, ey);
+        const auto& got = atlas.at(x, y);
+        ASSERT_EQ(std::lround(got.r * 255), std::lround(want.r * 255)) << x << ", " << y;
+        ASSERT_EQ(std::lround(got.g * 255), std::lround(want.g * 255)) << x << ", " << y;
+        ASSERT_EQ(std::lround(got.b * 255), std::lround(want.b * 255)) << x << ", " << y;
+        const auto& rock = displacement.at(ex, ey);
+        const double luminance = 0.2126f * rock.r + 0.7152f * rock.g + 0.0722f * rock.b;
+        EXPECT_NEAR(height_values->GetTuple1(vtkIdType(atlas.height() - 1 - y) * atlas.width() + x),
+                    65535 * luminance, 1.0);
+      }
+    EXPECT_GT(covered, std::size_t(atlas.width() * atlas.height() / 3));
+  }
 }
 
 TEST(FluidLappedOpticalFlow, TheTextureMovesWithTheVortex) {
