@@ -65,7 +65,6 @@ public:
       previous_ = std::move(current_);
       current_ = prepared_->get(k);
     }
-    current_index_ = k;
     return *current_;
   }
 
@@ -103,7 +102,6 @@ private:
   int count_ = 0;
   std::optional<PreparedFrames> prepared_;
   std::optional<PreparedFrame> previous_, current_;
-  int current_index_ = -1;
 };
 
 /// Frame 0's patches: Poisson-disk centres (section 4), patch i built by rank i mod size.

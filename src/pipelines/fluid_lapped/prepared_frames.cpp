@@ -144,6 +144,7 @@ PreparedFrame PreparedFrames::get(int k) {
     bytes = serialize(*mine_);
   std::uint64_t size = bytes.size();
   MPI_Bcast(&size, 1, MPI_UINT64_T, owner, comm_.raw);
+  TEXSIM_VERIFY(size < std::uint64_t(INT32_MAX), "frame " << k << " above 2 GiB to broadcast");
   bytes.resize(size);
   MPI_Bcast(bytes.data(), int(size), MPI_BYTE, owner, comm_.raw);
   return deserialize(bytes);
