@@ -1,10 +1,12 @@
 // Advection of patches: a reversing plane vortex brings a patch back to where it started within
 // 1e-3 r, with the error falling as RK4's fourth order says when the substeps double; the
 // reversing zonal shear on a faceted sphere brings it back within 5% of an edge; a strain flow
-// erodes a patch until every triangle is past delta_max, and then every texel of it is eroded.
+// erodes a patch until every triangle is past delta_max, and then every texel of it is eroded; a
+// velocity grid series is trilinear in world space and linear in time.
 #include "geom/generators.hpp"
 #include "pipelines/fluid_lapped/analytic_flows.hpp"
 #include "pipelines/fluid_lapped/erosion_mask.hpp"
+#include "pipelines/fluid_lapped/fluid_frames.hpp"
 #include "pipelines/fluid_lapped/patch_advection.hpp"
 #include "pipelines/fluid_lapped/patch_builder.hpp"
 #include "pipelines/fluid_lapped/patch_distortion.hpp"
@@ -121,6 +123,34 @@ TEST(Advection, StrainErodesThePatchUntilEveryTexelGoes) {
     for (const auto& uv : patch.rest_uv)
       EXPECT_TRUE(erosion.eroded(uv, w));
   }
+}
+
+TEST(GridVelocity, TrilinearInWorldSpaceAndLinearInTime) {
+  // v(x) = A x + c on a grid with an origin and unequal spacing: trilinear is exact for it.
+  vol::RgbGrid a(vol::Dims{5, 4, 3}), b(vol::Dims{5, 4, 3});
+  for (auto* grid : {&a, &b}) {
+    grid->set_origin({-1.0, 0.5, 2.0});
+    grid->set_spacing({0.5, 0.25, 1.0});
+  }
+  const auto field = [](const Vec3& x, double scale) -> Vec3 {
+    return scale * Vec3(x.x() + 2 * x.y(), -x.z(), 0.5 * x.x() + 1);
+  };
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 5; ++i) {
+        const Vec3 x(-1.0 + 0.5 * i, 0.5 + 0.25 * j, 2.0 + k);
+        const Vec3 va = field(x, 1.0), vb = field(x, 3.0);
+        a.at(i, j, k) = {float(va.x()), float(va.y()), float(va.z())};
+        b.at(i, j, k) = {float(vb.x()), float(vb.y()), float(vb.z())};
+      }
+  const auto velocity = make_grid_velocity(a, 1.0, b, 2.0);
+  const Vec3 inside(0.3, 0.9, 3.4);
+  EXPECT_LT((velocity->at(inside, 1.0) - field(inside, 1.0)).norm(), 1e-5);
+  EXPECT_LT((velocity->at(inside, 2.0) - field(inside, 3.0)).norm(), 1e-5);
+  EXPECT_LT((velocity->at(inside, 1.25) - field(inside, 1.5)).norm(), 1e-5);
+  // Outside the grid: the border value (clamped), not an extrapolation.
+  const Vec3 beyond(5.0, 0.9, 3.4), border(1.0, 0.9, 3.4);
+  EXPECT_LT((velocity->at(beyond, 1.0) - field(border, 1.0)).norm(), 1e-5);
 }
 
 } // namespace

@@ -7,6 +7,8 @@
 #include "geom/mesh_remesh.hpp"
 #include "geom/mesh_validation.hpp"
 #include "io/pvd_series.hpp"
+#include "vol/trilinear.hpp"
+#include "vol/vti_io.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -65,28 +67,69 @@ private:
   geom::AabbTree tree_a_, tree_b_;
 };
 
+class GridVelocity : public VelocityField {
+public:
+  GridVelocity(vol::RgbGrid a, double t_a, vol::RgbGrid b, double t_b)
+      : a_(std::move(a)), b_(std::move(b)), t_a_(t_a), t_b_(t_b) {}
+
+  geom::Vec3 at(const geom::Vec3& x, double time) const override {
+    const double span = t_b_ - t_a_;
+    const double s = span > 0 ? std::clamp((time - t_a_) / span, 0.0, 1.0) : 0.0;
+    return (1.0 - s) * sample(a_, x) + s * sample(b_, x);
+  }
+
+private:
+  static geom::Vec3 sample(const vol::RgbGrid& grid, const geom::Vec3& x) {
+    const auto v = vol::trilinear(grid, vol::voxel_coordinates(grid, {x.x(), x.y(), x.z()}));
+    return {v[0], v[1], v[2]};
+  }
+
+  vol::RgbGrid a_, b_;
+  double t_a_, t_b_;
+};
+
+/// The files and times of a .pvd or a printf pattern (times k x interval); InputError naming
+/// `key` when the spec is neither or lists nothing.
+void list_series(const std::string& spec, double interval, const std::string& key,
+                 std::vector<std::filesystem::path>& files, std::vector<double>& times) {
+  const std::filesystem::path path = spec;
+  if (path.extension() == ".pvd") {
+    for (const auto& entry : io::PvdSeries::read_entries(path)) {
+      files.push_back(path.parent_path() / entry.file);
+      times.push_back(entry.time);
+    }
+  } else if (spec.find('%') != std::string::npos) {
+    const int first = std::filesystem::exists(pattern_name(spec, 0)) ? 0 : 1;
+    for (int k = first; std::filesystem::exists(pattern_name(spec, k)); ++k) {
+      files.push_back(pattern_name(spec, k));
+      times.push_back(k * interval);
+    }
+  } else {
+    TEXSIM_INPUT_ERROR(key << ": '" << spec
+                           << "' is neither a .pvd nor a name pattern with a printf integer "
+                              "(frames/surface_%04d.vtp)");
+  }
+  if (files.empty())
+    TEXSIM_INPUT_ERROR(key << ": no frame found for '" << spec << "'");
+}
+
 } // namespace
 
 FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(settings)) {
-  const std::filesystem::path spec = settings_.frames;
-  if (spec.extension() == ".pvd") {
-    for (const auto& entry : io::PvdSeries::read_entries(spec)) {
-      files_.push_back(spec.parent_path() / entry.file);
-      times_.push_back(entry.time);
-    }
-  } else if (settings_.frames.find('%') != std::string::npos) {
-    int first = std::filesystem::exists(pattern_name(settings_.frames, 0)) ? 0 : 1;
-    for (int k = first; std::filesystem::exists(pattern_name(settings_.frames, k)); ++k) {
-      files_.push_back(pattern_name(settings_.frames, k));
-      times_.push_back(k * settings_.frame_interval);
-    }
-  } else {
-    TEXSIM_INPUT_ERROR(kKey << ": '" << settings_.frames
-                            << "' is neither a .pvd nor a name pattern with a printf integer "
-                               "(frames/surface_%04d.vtp)");
+  list_series(settings_.frames, settings_.frame_interval, kKey, files_, times_);
+  if (!settings_.velocity_grids.empty()) {
+    constexpr const char* kGridKey = "fluid_lapped.frames.velocity_grids";
+    std::vector<double> grid_times;
+    list_series(settings_.velocity_grids, settings_.frame_interval, kGridKey, grid_files_,
+                grid_times);
+    if (grid_times != times_)
+      TEXSIM_INPUT_ERROR(kGridKey << ": " << grid_files_.size() << " grids at other times than the "
+                                  << files_.size() << " surfaces of " << settings_.frames
+                                  << "; expected one grid per frame at the frame's time");
+    for (const auto& file : grid_files_)
+      if (!std::filesystem::is_regular_file(file))
+        TEXSIM_INPUT_ERROR(kGridKey << ": " << file.string() << " is missing");
   }
-  if (files_.empty())
-    TEXSIM_INPUT_ERROR(kKey << ": no frame found for '" << settings_.frames << "'");
   for (std::size_t k = 0; k < files_.size(); ++k) {
     if (!std::filesystem::is_regular_file(files_[k]))
       TEXSIM_INPUT_ERROR(kKey << ": frame " << k << " of " << settings_.frames << ", "
@@ -98,6 +141,15 @@ FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(set
   edge_length_ = settings_.edge_length > 0
                      ? settings_.edge_length
                      : geom::mean_edge_length(read_stored(files_.front(), "").mesh);
+}
+
+vol::RgbGrid FrameSource::velocity_grid(int k) const {
+  const auto& file = grid_files_[std::size_t(k)];
+  auto grid = vol::read_vti(file, settings_.grid_array);
+  if (!std::holds_alternative<vol::RgbGrid>(grid))
+    TEXSIM_INPUT_ERROR(file.string() << ": array '" << settings_.grid_array
+                                     << "' has one component; expected a 3-component velocity");
+  return std::get<vol::RgbGrid>(std::move(grid));
 }
 
 FluidFrame FrameSource::read(int k) const {
@@ -122,6 +174,11 @@ FluidFrame FrameSource::read(int k) const {
 
 std::unique_ptr<VelocityField> make_surface_velocity(const FluidFrame& a, const FluidFrame& b) {
   return std::make_unique<SurfaceVelocity>(a, b);
+}
+
+std::unique_ptr<VelocityField> make_grid_velocity(vol::RgbGrid a, double t_a, vol::RgbGrid b,
+                                                  double t_b) {
+  return std::make_unique<GridVelocity>(std::move(a), t_a, std::move(b), t_b);
 }
 
 } // namespace texsim::pipelines::fluid_lapped

@@ -1,11 +1,13 @@
 #pragma once
 /// The fluid's animated surface as simulators write it: a ParaView .pvd series or a numbered name
 /// pattern of surfaces (.vtp .vtu .vtk .ply .obj .off), any topology per frame, with the velocity
-/// as a 3-component point array (OpenFOAM's U after foamToVTK and a contour). Each frame is
+/// as a 3-component point array (OpenFOAM's U after foamToVTK and a contour) or as a series of
+/// .vti velocity grids (U resampled on a grid). Each frame is
 /// repaired and isotropically remeshed, because the patches need even triangles (paper, 7).
 #include "geom/aabb_tree.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "pipelines/fluid_lapped/velocity_field.hpp"
+#include "vol/dense_grid.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -27,8 +29,13 @@ struct FrameSourceSettings {
   /// surfaces: a .pvd, or a pattern with one printf integer (`frames/surface_%04d.vtp`) counted
   /// from 0 (or 1 when frame 0 is missing) until a file is missing
   std::string frames;
-  double frame_interval = 1.0;      ///< interval: time between pattern frames
-  std::string velocity_array = "U"; ///< velocity_array: 3-component point array of the surfaces
+  double frame_interval = 1.0; ///< interval: time between pattern frames
+  /// velocity_array: 3-component point array of the surfaces (empty when velocity_grids is used)
+  std::string velocity_array = "U";
+  /// velocity_grids: a .pvd (or pattern) of .vti grids holding the 3-component array
+  /// `grid_array`, one per frame at the frames' times; empty: the point array
+  std::string velocity_grids;
+  std::string grid_array = "U"; ///< grid_array
   /// edge_length: target of the isotropic remeshing; 0 = the mean edge of frame 0 as stored
   double edge_length = 0;
 };
@@ -44,6 +51,10 @@ public:
   const std::filesystem::path& file(int k) const { return files_[std::size_t(k)]; }
   double edge_length() const { return edge_length_; }
 
+  /// Velocity grid k (world space, origin and spacing of the .vti); only with velocity_grids.
+  vol::RgbGrid velocity_grid(int k) const;
+  bool has_velocity_grids() const { return !grid_files_.empty(); }
+
   /// Frame k read, repaired (non-manifold parts split, oriented, degenerate and duplicate
   /// triangles dropped, tiny components kept: droplets are fluid too) and remeshed to
   /// edge_length(); the velocity moved to the new vertices from the closest point of the file's
@@ -54,6 +65,7 @@ private:
   FrameSourceSettings settings_;
   std::vector<std::filesystem::path> files_;
   std::vector<double> times_;
+  std::vector<std::filesystem::path> grid_files_;
   double edge_length_ = 0;
 };
 
@@ -61,5 +73,10 @@ private:
 /// surface (barycentric), then (1 - s) v_a + s v_b with s = (t - t_a) / (t_b - t_a) clamped to
 /// [0, 1]. Keeps copies of both frames.
 std::unique_ptr<VelocityField> make_surface_velocity(const FluidFrame& a, const FluidFrame& b);
+
+/// The velocity from grid a (time t_a) to grid b (time t_b): each grid trilinear in world space,
+/// clamped at its border, then linear in time as make_surface_velocity().
+std::unique_ptr<VelocityField> make_grid_velocity(vol::RgbGrid a, double t_a, vol::RgbGrid b,
+                                                  double t_b);
 
 } // namespace texsim::pipelines::fluid_lapped

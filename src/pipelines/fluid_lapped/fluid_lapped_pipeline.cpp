@@ -68,12 +68,22 @@ public:
     return *current_;
   }
 
-  /// The velocity from frame k - 1 to frame k (after frame(k - 1) and frame(k)).
-  std::unique_ptr<VelocityField> velocity() const {
+  /// The velocity from frame k - 1 to frame k (after frame(k - 1) and frame(k)): the frames'
+  /// velocity grids or their surfaces' point arrays. Collective (errors reach every rank).
+  std::unique_ptr<VelocityField> velocity(const par::Comm& comm, int k) const {
     if (flow_)
       return nullptr;
-    TEXSIM_VERIFY(previous_, "no previous frame for the velocity");
-    return make_surface_velocity(previous_->frame, current_->frame);
+    std::unique_ptr<VelocityField> velocity;
+    par::run_collectively(comm, [&] {
+      if (source_->has_velocity_grids()) {
+        velocity = make_grid_velocity(source_->velocity_grid(k - 1), time(k - 1),
+                                      source_->velocity_grid(k), time(k));
+      } else {
+        TEXSIM_VERIFY(previous_, "no previous frame for the velocity");
+        velocity = make_surface_velocity(previous_->frame, current_->frame);
+      }
+    });
+    return velocity;
   }
   const VelocityField* analytic_flow() const { return flow_.get(); }
 
@@ -232,7 +242,7 @@ void FluidLappedPipeline::run(RunContext& ctx) {
       auto stage = ctx.timers.scope("create");
       seed_patches(comm, surface, settings_, run.seed, state);
     } else {
-      const auto data_velocity = animation.velocity();
+      const auto data_velocity = animation.velocity(comm, k);
       const VelocityField& velocity = data_velocity ? *data_velocity : *animation.analytic_flow();
       carry_patches(velocity, animation.time(k - 1), animation.time(k), *previous_surface, surface,
                     settings_, state, ctx.timers);

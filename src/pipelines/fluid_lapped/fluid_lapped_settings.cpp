@@ -9,10 +9,18 @@ FrameSourceSettings read_frame_files(const ConfigSection& section) {
   FrameSourceSettings files;
   files.frames = section.require<std::string>("surfaces");
   files.frame_interval = section.get<double>("interval", 1.0, positive());
-  files.velocity_array = section.get<std::string>("velocity_array", files.velocity_array);
-  if (files.velocity_array.empty())
-    section.fail("velocity_array", "the name of the surfaces' 3-component velocity point array "
-                                   "(OpenFOAM: U)");
+  files.velocity_grids = section.get<std::string>("velocity_grids", "");
+  if (!files.velocity_grids.empty()) {
+    if (section.has("velocity_array"))
+      section.fail("velocity_array", "no velocity_array with velocity_grids (one velocity source)");
+    files.velocity_array.clear();
+    files.grid_array = section.get<std::string>("grid_array", files.grid_array);
+  } else {
+    files.velocity_array = section.get<std::string>("velocity_array", files.velocity_array);
+    if (files.velocity_array.empty())
+      section.fail("velocity_array", "the name of the surfaces' 3-component velocity point "
+                                     "array (OpenFOAM: U), or velocity_grids");
+  }
   files.edge_length = section.get<double>("edge_length", 0.0, non_negative());
   return files;
 }

@@ -17,7 +17,7 @@ struct FrameSettings {
   /// count: frames to process (a run-length key: a finished run continues with a larger one);
   /// 0 = every frame the files list (files only)
   int count = 0;
-  /// files: surfaces, interval, velocity_array, velocity_grids, level_set_grid, edge_length
+  /// files: surfaces, interval, velocity_array or velocity_grids (+ grid_array), edge_length
   std::optional<FrameSourceSettings> files;
   /// analytic: mesh (a MeshSource section), flow, interval
   geom::MeshSource mesh;

@@ -1,5 +1,7 @@
 #include "pipelines/solid_synthesis/anisometric_field.hpp"
 
+#include "vol/trilinear.hpp"
+
 #include "core/error.hpp"
 
 #include <algorithm>
@@ -73,31 +75,14 @@ public:
   explicit VectorGridField(vol::RgbGrid vectors) : vectors_(std::move(vectors)) {}
 
   Eigen::Matrix3d axes(const Eigen::Vector3d& p) const override {
+    // Voxel centres at (i + 1/2) / n of the unit cube.
     const vol::Dims dims = vectors_.dims();
     const int n[3] = {dims.nx, dims.ny, dims.nz};
-    int lower[3];
-    double weight[3];
-    for (int a = 0; a < 3; ++a) {
-      const double u = std::clamp(p[a] * n[a] - 0.5, 0.0, static_cast<double>(n[a] - 1));
-      lower[a] = std::min(static_cast<int>(u), n[a] - 1);
-      weight[a] = u - lower[a];
-    }
-    Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (int corner = 0; corner < 8; ++corner) {
-      double w = 1.0;
-      int at[3];
-      for (int a = 0; a < 3; ++a) {
-        const int up = (corner >> a) & 1;
-        w *= up ? weight[a] : 1.0 - weight[a];
-        at[a] = lower[a] + up;
-      }
-      if (w == 0.0) {
-        continue;
-      }
-      const img::Rgb& c = vectors_.clamped(at[0], at[1], at[2]);
-      v += w * Eigen::Vector3d(c.r, c.g, c.b);
-    }
-    return frame_from_x_axis(v);
+    std::array<double, 3> at{};
+    for (int a = 0; a < 3; ++a)
+      at[std::size_t(a)] = p[a] * n[a] - 0.5;
+    const auto v = vol::trilinear(vectors_, at);
+    return frame_from_x_axis(Eigen::Vector3d(v[0], v[1], v[2]));
   }
 
 private:
