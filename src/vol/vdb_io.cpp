@@ -11,6 +11,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
+#include <openvdb/tools/VolumeToMesh.h>
 
 namespace texsim::vol {
 namespace {
@@ -130,7 +131,12 @@ void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
   write_grid<openvdb::Vec3SGrid>(path, grid, grid_name);
 }
 
-AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name) {
+namespace {
+
+/// Grid `grid_name` of a .vdb file (empty: its first FloatGrid or Vec3SGrid); InputError naming
+/// the file, the grid and the grids it has when that fails.
+openvdb::GridBase::Ptr read_named_grid(const std::filesystem::path& path,
+                                       const std::string& grid_name) {
   initialize_openvdb();
   require_regular_file(path, "OpenVDB file (.vdb)");
   openvdb::GridBase::Ptr base;
@@ -166,6 +172,13 @@ AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name
   } catch (const std::ios_base::failure& e) {
     TEXSIM_INPUT_ERROR(path.string() << ": not a readable OpenVDB file: " << e.what());
   }
+  return base;
+}
+
+} // namespace
+
+AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name) {
+  const auto base = read_named_grid(path, grid_name);
   if (auto scalar = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
     return with_finite_voxels(path, to_dense<openvdb::FloatGrid, float>(*scalar, path));
   }
@@ -174,6 +187,36 @@ AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name
   }
   TEXSIM_INPUT_ERROR(path.string() << ": grid '" << base->getName() << "' is of type "
                                    << base->type() << ", expected a FloatGrid or Vec3SGrid");
+}
+
+LevelSetSurface read_level_set_surface(const std::filesystem::path& path,
+                                       const std::string& grid_name) {
+  const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(read_named_grid(path, grid_name));
+  if (!grid)
+    TEXSIM_INPUT_ERROR(path.string()
+                       << ": grid '" << grid_name << "' is not a FloatGrid; expected a level set");
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*grid, points, triangles, quads, 0.0);
+  LevelSetSurface surface;
+  for (const auto& p : points)
+    surface.positions.push_back({double(p.x()), double(p.y()), double(p.z())});
+  const auto add = [&](unsigned a, unsigned b, unsigned c) {
+    // volumeToMesh turns faces counter-clockwise around the outward normal of a level set that
+    // is negative inside (tests/fluid_lapped/frames_test.cpp checks the enclosed volume's sign).
+    surface.triangles.push_back({std::int32_t(a), std::int32_t(b), std::int32_t(c)});
+  };
+  for (const auto& t : triangles)
+    add(t[0], t[1], t[2]);
+  for (const auto& q : quads) { // split along the 0-2 diagonal, the same for every quad
+    add(q[0], q[1], q[2]);
+    add(q[0], q[2], q[3]);
+  }
+  if (surface.triangles.empty())
+    TEXSIM_INPUT_ERROR(path.string() << ": level set '" << grid->getName()
+                                     << "' has no zero crossing (no surface)");
+  return surface;
 }
 
 } // namespace texsim::vol

@@ -10,8 +10,11 @@
 /// the bounding box of their active voxels, with spacing and origin from their transform.
 #include "vol/dense_grid.hpp"
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace texsim::vol {
 
@@ -28,5 +31,19 @@ void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
 /// readable VDB file, has no grid of that name (the message lists the grids it has), the grid is
 /// neither float nor Vec3s, has no active voxels, or its transform is not axis-aligned.
 AnyGrid read_vdb(const std::filesystem::path& path, const std::string& grid_name = "");
+
+/// A triangle surface as plain arrays (vol does not know geom): world positions, and corner
+/// indices turned counter-clockwise seen from outside.
+struct LevelSetSurface {
+  std::vector<std::array<double, 3>> positions;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+};
+
+/// The zero crossing of the FloatGrid level set `grid_name` (negative inside) of a .vdb file,
+/// meshed by OpenVDB's volumeToMesh without adaptivity, quads split along one diagonal: a fluid
+/// simulator's surface. InputError naming the file for a missing grid, another grid type or no
+/// crossing.
+LevelSetSurface read_level_set_surface(const std::filesystem::path& path,
+                                       const std::string& grid_name);
 
 } // namespace texsim::vol

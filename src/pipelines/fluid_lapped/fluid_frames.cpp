@@ -8,6 +8,7 @@
 #include "geom/mesh_validation.hpp"
 #include "io/pvd_series.hpp"
 #include "vol/trilinear.hpp"
+#include "vol/vdb_io.hpp"
 #include "vol/vti_io.hpp"
 
 #include <algorithm>
@@ -25,10 +26,21 @@ std::string pattern_name(const std::string& pattern, int k) {
   return name.data();
 }
 
-/// A surface with the velocity at its vertices, as stored in the file.
-FluidFrame read_stored(const std::filesystem::path& path, const std::string& velocity_array) {
+/// A surface with the velocity at its vertices, as stored in the file; a .vdb level set is
+/// meshed at its zero crossing.
+FluidFrame read_stored(const std::filesystem::path& path, const std::string& velocity_array,
+                       const std::string& level_set_grid) {
   FluidFrame frame;
-  if (velocity_array.empty()) {
+  if (path.extension() == ".vdb") {
+    auto surface = vol::read_level_set_surface(path, level_set_grid);
+    for (const auto& p : surface.positions)
+      frame.mesh.positions.emplace_back(p[0], p[1], p[2]);
+    for (const auto& t : surface.triangles)
+      frame.mesh.triangles.push_back({t[0], t[1], t[2]});
+    if (!velocity_array.empty())
+      TEXSIM_INPUT_ERROR(path.string() << ": a level set has no point arrays; give the velocity "
+                                          "as fluid_lapped.frames.velocity_grids");
+  } else if (velocity_array.empty()) {
     frame.mesh = geom::read_raw_mesh(path);
   } else {
     auto vectors = geom::read_vertex_vectors(path, velocity_array);
@@ -138,9 +150,10 @@ FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(set
       TEXSIM_INPUT_ERROR(kKey << ": the times of " << settings_.frames << " must increase; frame "
                               << k << " has " << times_[k] << " after " << times_[k - 1]);
   }
-  edge_length_ = settings_.edge_length > 0
-                     ? settings_.edge_length
-                     : geom::mean_edge_length(read_stored(files_.front(), "").mesh);
+  edge_length_ =
+      settings_.edge_length > 0
+          ? settings_.edge_length
+          : geom::mean_edge_length(read_stored(files_.front(), "", settings_.level_set_grid).mesh);
 }
 
 vol::RgbGrid FrameSource::velocity_grid(int k) const {
@@ -154,7 +167,7 @@ vol::RgbGrid FrameSource::velocity_grid(int k) const {
 
 FluidFrame FrameSource::read(int k) const {
   const auto& path = files_[std::size_t(k)];
-  auto stored = read_stored(path, settings_.velocity_array);
+  auto stored = read_stored(path, settings_.velocity_array, settings_.level_set_grid);
   stored.time = times_[std::size_t(k)];
   auto mesh = stored.mesh;
   geom::MeshRepairOptions repair;

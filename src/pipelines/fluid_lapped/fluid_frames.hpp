@@ -1,6 +1,7 @@
 #pragma once
 /// The fluid's animated surface as simulators write it: a ParaView .pvd series or a numbered name
-/// pattern of surfaces (.vtp .vtu .vtk .ply .obj .off), any topology per frame, with the velocity
+/// pattern of surfaces (.vtp .vtu .vtk .ply .obj .off) or OpenVDB level sets (.vdb, meshed at
+/// their zero crossing), any topology per frame, with the velocity
 /// as a 3-component point array (OpenFOAM's U after foamToVTK and a contour) or as a series of
 /// .vti velocity grids (U resampled on a grid). Each frame is
 /// repaired and isotropically remeshed, because the patches need even triangles (paper, 7).
@@ -35,7 +36,8 @@ struct FrameSourceSettings {
   /// velocity_grids: a .pvd (or pattern) of .vti grids holding the 3-component array
   /// `grid_array`, one per frame at the frames' times; empty: the point array
   std::string velocity_grids;
-  std::string grid_array = "U"; ///< grid_array
+  std::string grid_array = "U";           ///< grid_array
+  std::string level_set_grid = "surface"; ///< level_set_grid: FloatGrid of .vdb frames
   /// edge_length: target of the isotropic remeshing; 0 = the mean edge of frame 0 as stored
   double edge_length = 0;
 };

@@ -21,6 +21,7 @@ FrameSourceSettings read_frame_files(const ConfigSection& section) {
       section.fail("velocity_array", "the name of the surfaces' 3-component velocity point "
                                      "array (OpenFOAM: U), or velocity_grids");
   }
+  files.level_set_grid = section.get<std::string>("level_set_grid", files.level_set_grid);
   files.edge_length = section.get<double>("edge_length", 0.0, non_negative());
   return files;
 }
