@@ -26,9 +26,8 @@ vol::ScalarGrid sphere_level_set(double radius) {
   for (int k = 0; k < 41; ++k)
     for (int j = 0; j < 41; ++j)
       for (int i = 0; i < 41; ++i)
-        grid.at(i, j, k) =
-            float(Eigen::Vector3d(-1.2 + 0.06 * i, -1.2 + 0.06 * j, -1.2 + 0.06 * k).norm() -
-                  radius);
+        grid.at(i, j, k) = float(
+            Eigen::Vector3d(-1.2 + 0.06 * i, -1.2 + 0.06 * j, -1.2 + 0.06 * k).norm() - radius);
   return grid;
 }
 
@@ -61,9 +60,10 @@ TEST(FluidFrames, LevelSetSeriesGivesClosedOutwardSurfaces) {
     EXPECT_NEAR(geom::total_area(frame.mesh), 4 * M_PI * r * r, 0.02 * 4 * M_PI * r * r);
     double volume = 0; // positive when the triangles face outwards
     for (const auto& t : frame.mesh.triangles)
-      volume += frame.mesh.positions[std::size_t(t[0])].dot(
-                    frame.mesh.positions[std::size_t(t[1])].cross(
-                        frame.mesh.positions[std::size_t(t[2])])) / 6.0;
+      volume +=
+          frame.mesh.positions[std::size_t(t[0])].dot(frame.mesh.positions[std::size_t(t[1])].cross(
+              frame.mesh.positions[std::size_t(t[2])])) /
+          6.0;
     EXPECT_NEAR(volume, 4.0 / 3.0 * M_PI * r * r * r, 0.03 * 4.0 / 3.0 * M_PI * r * r * r);
     EXPECT_NEAR(geom::mean_edge_length(frame.mesh), 0.08, 0.02);
   }
@@ -73,7 +73,8 @@ TEST(FluidFrames, VelocityGridsAtOtherTimesAreRefused) {
   const auto dir = scratch();
   vol::RgbGrid velocity(vol::Dims{2, 2, 2});
   for (int k = 0; k < 2; ++k) {
-    vol::write_vdb(dir / ("sphere_" + std::to_string(k) + ".vdb"), sphere_level_set(0.8), "surface");
+    vol::write_vdb(dir / ("sphere_" + std::to_string(k) + ".vdb"), sphere_level_set(0.8),
+                   "surface");
     vol::write_vti(dir / ("u_" + std::to_string(k) + ".vti"), velocity, "U");
   }
   vol::write_vti(dir / "u_2.vti", velocity, "U"); // one grid too many
