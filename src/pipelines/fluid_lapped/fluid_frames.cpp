@@ -138,9 +138,13 @@ FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(set
       TEXSIM_INPUT_ERROR(kGridKey << ": " << grid_files_.size() << " grids at other times than the "
                                   << files_.size() << " surfaces of " << settings_.frames
                                   << "; expected one grid per frame at the frame's time");
-    for (const auto& file : grid_files_)
+    for (const auto& file : grid_files_) {
+      if (file.extension() != ".vti" && file.extension() != ".vdb")
+        TEXSIM_INPUT_ERROR(kGridKey << ": " << file.string()
+                                    << " is neither a .vti nor a .vdb vector grid");
       if (!std::filesystem::is_regular_file(file))
         TEXSIM_INPUT_ERROR(kGridKey << ": " << file.string() << " is missing");
+    }
   }
   for (std::size_t k = 0; k < files_.size(); ++k) {
     if (!std::filesystem::is_regular_file(files_[k]))
@@ -158,9 +162,13 @@ FrameSource::FrameSource(FrameSourceSettings settings) : settings_(std::move(set
 
 vol::RgbGrid FrameSource::velocity_grid(int k) const {
   const auto& file = grid_files_[std::size_t(k)];
-  auto grid = vol::read_vti(file, settings_.grid_array);
+  const bool is_vdb = file.extension() == ".vdb";
+  // Simulators name the velocity U (OpenFOAM, in .vti via VTK) or vel (Houdini, in .vdb).
+  const std::string name =
+      !settings_.grid_array.empty() ? settings_.grid_array : (is_vdb ? "vel" : "U");
+  auto grid = is_vdb ? vol::read_vdb(file, name) : vol::read_vti(file, name);
   if (!std::holds_alternative<vol::RgbGrid>(grid))
-    TEXSIM_INPUT_ERROR(file.string() << ": array '" << settings_.grid_array
+    TEXSIM_INPUT_ERROR(file.string() << ": " << (is_vdb ? "grid" : "array") << " '" << name
                                      << "' has one component; expected a 3-component velocity");
   return std::get<vol::RgbGrid>(std::move(grid));
 }

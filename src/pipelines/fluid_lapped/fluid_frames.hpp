@@ -33,10 +33,10 @@ struct FrameSourceSettings {
   double frame_interval = 1.0; ///< interval: time between pattern frames
   /// velocity_array: 3-component point array of the surfaces (empty when velocity_grids is used)
   std::string velocity_array = "U";
-  /// velocity_grids: a .pvd (or pattern) of .vti grids holding the 3-component array
-  /// `grid_array`, one per frame at the frames' times; empty: the point array
+  /// velocity_grids: a .pvd (or pattern) of .vti or .vdb vector grids holding the 3-component
+  /// array or Vec3s grid `grid_array`, one per frame at the frames' times; empty: the point array
   std::string velocity_grids;
-  std::string grid_array = "U";           ///< grid_array
+  std::string grid_array;                 ///< grid_array; empty: U in .vti, vel in .vdb
   std::string level_set_grid = "surface"; ///< level_set_grid: FloatGrid of .vdb frames
   /// edge_length: target of the isotropic remeshing; 0 = the mean edge of frame 0 as stored
   double edge_length = 0;
@@ -53,7 +53,8 @@ public:
   const std::filesystem::path& file(int k) const { return files_[std::size_t(k)]; }
   double edge_length() const { return edge_length_; }
 
-  /// Velocity grid k (world space, origin and spacing of the .vti); only with velocity_grids.
+  /// Velocity grid k (world space, origin and spacing of the .vti or the .vdb's transform); only
+  /// with velocity_grids.
   vol::RgbGrid velocity_grid(int k) const;
   bool has_velocity_grids() const { return !grid_files_.empty(); }
 
