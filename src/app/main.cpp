@@ -17,10 +17,26 @@
 #include <H5public.h>
 #include <omp.h>
 
+#include <filesystem>
 #include <iostream>
+#include <string>
+#include <system_error>
 
 namespace texsim::app {
 namespace {
+
+/// Where this executable runs from: an install prefix (the directory above its bin/), or the
+/// build tree.
+std::string install_location() {
+  std::error_code error;
+  const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error)
+    return "location unknown";
+  const auto directory = executable.parent_path();
+  if (directory.filename() == "bin")
+    return "prefix: " + directory.parent_path().string();
+  return "build tree: " + directory.string();
+}
 
 void print_version() {
   unsigned major = 0, minor = 0, release = 0;
@@ -29,7 +45,8 @@ void print_version() {
             << "  PETSc " << build_info::kPetscVersion << ", HDF5 " << major << "." << minor << "."
             << release << ", VTK " << build_info::kVtkVersion << ", OpenVDB "
             << build_info::kOpenVdbVersion << "\n"
-            << "  pipelines: " << registered_pipeline_list() << "\n";
+            << "  pipelines: " << registered_pipeline_list() << "\n"
+            << "  " << install_location() << "\n";
 }
 
 /// The config after --set overrides, validated on rank 0 and broadcast as YAML text.

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <sstream>
 
 namespace texsim {
@@ -267,6 +268,37 @@ void check_tree(const YAML::Node& node, const std::string& path, const std::stri
     check_tree(item.second, key_path, source, count);
   }
 }
+/// Where configs find their data: ${TEXSIM_DATA} stands for the environment variable TEXSIM_DATA,
+/// or for "data" (the repository's data/, relative to the working directory) when it is unset.
+constexpr const char* kDataVariable = "${TEXSIM_DATA}";
+
+std::string data_directory() {
+  const char* value = std::getenv("TEXSIM_DATA");
+  return value != nullptr && *value != '\0' ? value : "data";
+}
+
+/// Replaces ${TEXSIM_DATA} in every scalar of the tree by data_directory().
+void expand_data_directory(YAML::Node node) {
+  if (node.IsScalar()) {
+    std::string text = node.Scalar();
+    const std::string variable = kDataVariable;
+    bool replaced = false;
+    for (auto at = text.find(variable); at != std::string::npos; at = text.find(variable, at + 1)) {
+      const auto directory = data_directory();
+      text.replace(at, variable.size(), directory);
+      at += directory.size() - 1;
+      replaced = true;
+    }
+    if (replaced)
+      node = text;
+  } else if (node.IsSequence()) {
+    for (auto item : node)
+      expand_data_directory(item);
+  } else if (node.IsMap()) {
+    for (auto item : node)
+      expand_data_directory(item.second);
+  }
+}
 } // namespace
 
 ConfigDocument ConfigDocument::parse(const std::string& text, const std::string& source) {
@@ -282,6 +314,7 @@ ConfigDocument ConfigDocument::parse(const std::string& text, const std::string&
     throw InputError(source + ": expected a mapping of keys at the top level");
   std::size_t count = 0;
   check_tree(root, "", source, count);
+  expand_data_directory(root);
   return ConfigDocument(root, source);
 }
 
@@ -300,6 +333,7 @@ void ConfigDocument::set_override(const std::string& assignment) {
   } catch (const YAML::Exception& e) {
     throw InputError("--set " + assignment + ": the value is not valid YAML: " + e.what());
   }
+  expand_data_directory(value);
   std::vector<std::string> keys;
   std::stringstream parts(path);
   for (std::string key; std::getline(parts, key, '.');) {

@@ -89,6 +89,8 @@ private:
 class ConfigDocument {
 public:
   /// Parses YAML text; `source` (file name) is used in messages. Throws InputError on bad YAML.
+  /// ${TEXSIM_DATA} in any value (here and in --set values) becomes the environment variable
+  /// TEXSIM_DATA, or "data" when it is unset: where an installed texsim finds its data.
   static ConfigDocument parse(const std::string& text, const std::string& source);
   /// Reads and parses a file. Throws InputError if it is missing or unreadable.
   static ConfigDocument load(const std::string& path);

@@ -117,8 +117,8 @@ TEST(Cli, SetOverrideIsValidatedLikeTheFile) {
       << outcome.output;
 }
 
-/// The shipped configs (config/**/*.yaml) that name files under data/ (put there by
-/// scripts/fetch-data), or the others.
+/// The shipped configs (config/**/*.yaml) that name files under ${TEXSIM_DATA} (data/, put there
+/// by scripts/fetch-data), or the others.
 std::vector<fs::path> shipped_configs(bool naming_data) {
   std::vector<fs::path> configs;
   for (const auto& entry : fs::recursive_directory_iterator(source("config"))) {
@@ -126,7 +126,7 @@ std::vector<fs::path> shipped_configs(bool naming_data) {
       continue;
     std::stringstream text;
     text << std::ifstream(entry.path()).rdbuf();
-    if ((text.str().find("data/") != std::string::npos) == naming_data)
+    if ((text.str().find("${TEXSIM_DATA}") != std::string::npos) == naming_data)
       configs.push_back(entry.path());
   }
   return configs;

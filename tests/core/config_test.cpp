@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 
 namespace texsim {
@@ -17,6 +18,26 @@ TEST(Config, ReadsTypedValuesAndDefaults) {
   EXPECT_EQ(root.get<std::string>("name", ""), "x");
   EXPECT_EQ(root.get<int>("absent", 7), 7);
   EXPECT_NO_THROW(document.check_unknown_keys());
+}
+
+TEST(Config, DataDirectoryComesFromTexsimDataOrDefaultsToData) {
+  const std::string text = "mesh: {file: \"${TEXSIM_DATA}/meshes/a.off\"}\n"
+                           "images: [\"${TEXSIM_DATA}/x.png:${TEXSIM_DATA}/y.png\"]\n";
+  ::unsetenv("TEXSIM_DATA");
+  auto by_default = ConfigDocument::parse(text, "t.yaml");
+  EXPECT_EQ(by_default.root().section("mesh").get<std::string>("file", ""), "data/meshes/a.off");
+  ::setenv("TEXSIM_DATA", "/opt/texsim/share/texsim/data", 1);
+  auto installed = ConfigDocument::parse(text, "t.yaml");
+  installed.set_override("extra=${TEXSIM_DATA}/b.off");
+  ::unsetenv("TEXSIM_DATA");
+  EXPECT_EQ(installed.root().section("mesh").get<std::string>("file", ""),
+            "/opt/texsim/share/texsim/data/meshes/a.off");
+  EXPECT_EQ(installed.root().get<std::vector<std::string>>("images", {}),
+            (std::vector<std::string>{
+                "/opt/texsim/share/texsim/data/x.png:/opt/texsim/share/texsim/data/y.png"}));
+  EXPECT_EQ(installed.root().get<std::string>("extra", ""), "/opt/texsim/share/texsim/data/b.off");
+  // Every rank parses the emitted text: it holds the paths, not the variable.
+  EXPECT_EQ(installed.emit().find("TEXSIM_DATA"), std::string::npos) << installed.emit();
 }
 
 TEST(Config, ErrorNamesKeyPathExpectationAndValue) {
