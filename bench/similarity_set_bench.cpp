@@ -4,8 +4,9 @@
 // neighbours cluster spatially and the exclusion windows matter). Reports the median wall time over
 // --repeats builds, distance evaluations per second, the bound a GEMM formulation could reach (2 d
 // N^2 flops at the OpenBLAS sgemm rate measured in this run on all cores), exactness on --sample
-// voxels against a brute-force search ("exact", null with --sample 0), peak memory and the N^2
-// extrapolation to a 256^3 exemplar.
+// voxels against a brute-force search ("exact", null with --sample 0), with --compare-scan 1
+// whether every voxel's set equals the scan's ("equals_scan"), peak memory and the N^2
+// extrapolation to a 256^3 exemplar (meaningful for the scan). --search tree (default) or scan.
 // Prints one JSON object on rank 0.
 // Sample run:
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/similarity_set_bench --size 64 --repeats 3
@@ -45,14 +46,25 @@ struct BenchSettings {
   int repeats = 3;
   int sample = 500; ///< voxels checked against the brute-force search (0: no check)
   int gemm_size = 3072;
+  bool compare_scan = false; ///< also build the sets by the scan once and compare every voxel
 };
 
 BenchSettings parse_arguments(int argc, char** argv) {
   BenchSettings s;
+  s.options.search = ShortlistSearch::tree; // measured as such, not as `auto` picks
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--exemplar") {
       s.exemplar = argv[i + 1];
+      continue;
+    }
+    if (flag == "--search") {
+      const std::string search = argv[i + 1];
+      if (search != "tree" && search != "scan") {
+        std::cerr << "--search: expected tree or scan, got " << search << "\n";
+        std::exit(2);
+      }
+      s.options.search = search == "tree" ? ShortlistSearch::tree : ShortlistSearch::scan;
       continue;
     }
     const int value = std::stoi(argv[i + 1]);
@@ -70,6 +82,8 @@ BenchSettings parse_arguments(int argc, char** argv) {
       s.sample = value;
     else if (flag == "--gemm-size")
       s.gemm_size = value;
+    else if (flag == "--compare-scan")
+      s.compare_scan = value != 0;
     else {
       std::cerr << "unknown option " << flag << "\n";
       std::exit(2);
@@ -207,6 +221,12 @@ int main(int argc, char** argv) {
       settings.sample > 0 ? nlohmann::json(sampled_exact(comm, features, settings.options, sets,
                                                          settings.sample))
                           : nlohmann::json(nullptr); // not checked
+  nlohmann::json equals_scan = nullptr;              // not compared
+  if (settings.compare_scan) {
+    SimilarityOptions scan = settings.options;
+    scan.search = ShortlistSearch::scan;
+    equals_scan = build_similarity_sets(comm, features, scan).candidates == sets.candidates;
+  }
   const double gflops = sgemm_gflops(comm, settings.gemm_size);
 
   if (comm.is_root()) {
@@ -221,6 +241,7 @@ int main(int argc, char** argv) {
         {"k", settings.options.k},
         {"window", settings.options.window},
         {"periodic", settings.options.periodic},
+        {"search", settings.options.search == ShortlistSearch::tree ? "tree" : "scan"},
         {"ranks", comm.size},
         {"threads", omp_get_max_threads()},
         {"repeats", settings.repeats},
@@ -232,6 +253,7 @@ int main(int argc, char** argv) {
         {"gemm_bound_s", flops / (gflops * 1e9)},
         {"over_gemm_bound", wall / (flops / (gflops * 1e9))},
         {"exact", exact},
+        {"equals_scan", equals_scan},
         {"sampled_voxels", settings.sample},
         {"vm_hwm_mb_max", memory_mb},
         {"extrapolated_256_s", wall * std::pow(std::pow(256.0, 3) / n, 2)},

@@ -1,7 +1,8 @@
 // Similarity sets against a brute-force reference written here from the definition (double
 // distances, an explicit window-exclusion loop over every voxel), on random, smooth and
 // quantised (tie-heavy) features, periodic and not, several k and window sizes, grids whose rows
-// do not fill whole SIMD chunks, and at every rank count the test runs with. Plus the cache file.
+// do not fill whole SIMD chunks, and at every rank count the test runs with, for both searches
+// (kd-tree and scan). Plus the cache file.
 #include "core/rng.hpp"
 #include "par/comm.hpp"
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
@@ -180,15 +181,45 @@ const Case kCases[] = {
 
 TEST(SimilaritySets, EqualBruteForceReference) {
   const par::Comm comm = par::world();
-  for (const Case& c : kCases) {
-    SCOPED_TRACE(c.name);
-    const auto features = make_features(c.dims, c.channels, c.pattern, 7);
-    const SimilaritySets sets = build_similarity_sets(comm, features, c.options);
-    EXPECT_EQ(sets.dims, c.dims);
-    ASSERT_EQ(sets.k, c.options.k);
-    ASSERT_EQ(sets.candidates.size(), c.dims.count() * c.options.k);
-    EXPECT_EQ(mismatches(comm, features, c.options, sets, c.stride), 0);
+  for (const Case& c : kCases)
+    for (const auto search : {ShortlistSearch::tree, ShortlistSearch::scan}) {
+      SCOPED_TRACE(std::string(c.name) + (search == ShortlistSearch::tree ? " tree" : " scan"));
+      const auto features = make_features(c.dims, c.channels, c.pattern, 7);
+      SimilarityOptions options = c.options;
+      options.search = search;
+      const SimilaritySets sets = build_similarity_sets(comm, features, options);
+      EXPECT_EQ(sets.dims, c.dims);
+      ASSERT_EQ(sets.k, c.options.k);
+      ASSERT_EQ(sets.candidates.size(), c.dims.count() * c.options.k);
+      EXPECT_EQ(mismatches(comm, features, c.options, sets, c.stride), 0);
+    }
+}
+
+TEST(SimilaritySets, TreeAndScanGiveTheSameSetsOnLargerGrids) {
+  // Beyond the reference's reach: the two searches agree on every voxel of 32^3 grids (the
+  // tie-heavy pattern is covered above: the tree is slow there by design, see the next test).
+  const par::Comm comm = par::world();
+  for (const auto pattern : {Pattern::smooth, Pattern::random}) {
+    const auto features = make_features({32, 32, 32}, 8, pattern, 5);
+    for (const bool periodic : {true, false}) {
+      SimilarityOptions options{3, 7, periodic};
+      options.search = ShortlistSearch::tree;
+      const auto tree = build_similarity_sets(comm, features, options);
+      options.search = ShortlistSearch::scan;
+      const auto scan = build_similarity_sets(comm, features, options);
+      EXPECT_EQ(tree.candidates, scan.candidates)
+          << "pattern " << static_cast<int>(pattern) << (periodic ? " periodic" : " open");
+    }
   }
+}
+
+TEST(SimilaritySets, AutomaticSearchAvoidsTheTreeOnSmallGridsAndTies) {
+  EXPECT_EQ(automatic_search(make_features({32, 32, 32}, 8, Pattern::smooth, 1)),
+            ShortlistSearch::tree);
+  EXPECT_EQ(automatic_search(make_features({16, 16, 16}, 8, Pattern::smooth, 1)),
+            ShortlistSearch::scan);
+  EXPECT_EQ(automatic_search(make_features({32, 32, 32}, 2, Pattern::quantised, 1)),
+            ShortlistSearch::scan);
 }
 
 TEST(SimilaritySets, CandidatesRespectTheWindows) {

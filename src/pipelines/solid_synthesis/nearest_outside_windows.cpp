@@ -2,18 +2,24 @@
 
 #include "core/error.hpp"
 #include "core/float_distance_scan.hpp"
+#include "core/hash.hpp"
+#include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
 constexpr int kLanes = kScanLanes;
 constexpr int kQueryBlock = kScanQueries;
-constexpr int kMaxWitnesses = 63;     ///< k - 1 limit (the greedy witness picks live on the stack)
-constexpr std::size_t kMinBatch = 16; ///< offers collected before the shortlist is merged
+constexpr int kMaxWitnesses = 63; ///< k - 1 limit (the greedy witness picks live on the stack)
+/// Offers collected before the shortlist is merged: the scan batches them (its threshold is
+/// refreshed per hit anyway); the tree merges at once, since a tighter bound prunes whole cells.
+constexpr std::size_t kScanBatch = 16;
+constexpr std::size_t kTreeBatch = 1;
 constexpr std::size_t kTileBytes = 128 * 1024; ///< lane blocks scanned per pass over the queries
 
 /// The squared feature distance the similarity sets are defined by: the sum over channels of
@@ -52,8 +58,31 @@ struct NearestOutsideWindows::Block {
   std::vector<std::int64_t> window_rows; ///< rows crossing some query's window, ascending
 };
 
+ShortlistSearch automatic_search(const vol::ChannelGrid& features) {
+  constexpr std::size_t kSmallGrid = 32 * 32 * 32;
+  constexpr double kTiedFraction = 0.01;
+  const std::size_t voxels = features.voxel_count();
+  if (voxels < kSmallGrid)
+    return ShortlistSearch::scan;
+  // Equal features give equal hashes; a collision only counts a voxel as tied that is not.
+  std::vector<std::uint64_t> hashes(voxels);
+  for (std::size_t v = 0; v < voxels; ++v) {
+    const auto f = features.voxel(v);
+    hashes[v] = fnv1a64(
+        std::string_view(reinterpret_cast<const char*>(f.data()), f.size() * sizeof(float)));
+  }
+  std::sort(hashes.begin(), hashes.end());
+  std::size_t tied = 0;
+  for (std::size_t i = 0; i < voxels; ++i)
+    tied += (i > 0 && hashes[i] == hashes[i - 1]) || (i + 1 < voxels && hashes[i] == hashes[i + 1]);
+  return static_cast<double>(tied) > kTiedFraction * static_cast<double>(voxels)
+             ? ShortlistSearch::scan
+             : ShortlistSearch::tree;
+}
+
 NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
-                                             const ExclusionWindows& windows, int witnesses)
+                                             const ExclusionWindows& windows, int witnesses,
+                                             ShortlistSearch search)
     : features_(features), windows_(windows), witnesses_(witnesses), channels_(features.channels()),
       chunks_per_row_((features.dims().nx + kLanes - 1) / kLanes), float_bound_(channels_) {
   TEXSIM_VERIFY(witnesses_ >= 1 && witnesses_ <= kMaxWitnesses,
@@ -65,6 +94,12 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
   for (const float f : features.data())
     TEXSIM_VERIFY(std::isfinite(f) && std::abs(f) <= safe,
                   "similarity sets: feature value " << f << " is not finite or exceeds " << safe);
+  if (search == ShortlistSearch::automatic)
+    search = automatic_search(features);
+  if (search == ShortlistSearch::tree) {
+    tree_ = std::make_unique<FeatureKdTree>(features);
+    return;
+  }
 
   const vol::Dims dims = features.dims();
   const std::size_t rows = static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(dims.nz);
@@ -81,6 +116,8 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
         chunk[c * kLanes + x % kLanes] = f[static_cast<std::size_t>(c)];
     }
 }
+
+NearestOutsideWindows::~NearestOutsideWindows() = default;
 
 float NearestOutsideWindows::threshold(const QueryState& query) const {
   // Shortlist witnesses were all scanned before any voxel still to come, which therefore has a
@@ -110,6 +147,11 @@ std::size_t NearestOutsideWindows::last_witness(const std::vector<RankedVoxel>& 
 
 void NearestOutsideWindows::seed(QueryState& query) const {
   const float* query_features = features_.voxel(static_cast<std::size_t>(query.voxel)).data();
+  const auto distance_to = [&](std::int32_t voxel) {
+    return RankedVoxel{exact_distance(features_.voxel(static_cast<std::size_t>(voxel)).data(), 1,
+                                      query_features, channels_),
+                       voxel};
+  };
   // The voxels one step outside the window along each axis direction and diagonal: for smooth
   // features they are among the best matches, so the threshold starts close to its final value.
   const vol::Dims dims = features_.dims();
@@ -128,10 +170,8 @@ void NearestOutsideWindows::seed(QueryState& query) const {
         }
         if (!in_grid || windows_.inside(query.at, at))
           continue;
-        const auto voxel = static_cast<std::int32_t>(features_.index(at[0], at[1], at[2]));
-        seeds.push_back({exact_distance(features_.voxel(static_cast<std::size_t>(voxel)).data(), 1,
-                                        query_features, channels_),
-                         voxel});
+        seeds.push_back(
+            distance_to(static_cast<std::int32_t>(features_.index(at[0], at[1], at[2]))));
       }
   std::sort(seeds.begin(), seeds.end());
   const std::size_t last = last_witness(seeds);
@@ -154,17 +194,18 @@ void NearestOutsideWindows::merge_pending(QueryState& query) const {
 }
 
 void NearestOutsideWindows::offer(QueryState& query, const float* query_features,
-                                  std::int32_t voxel, const float* voxel_lane) const {
+                                  std::int32_t voxel, const float* voxel_features,
+                                  std::ptrdiff_t stride) const {
   if (windows_.inside(query.at, windows_.coordinates(voxel)))
     return;
-  // The voxel's features from the lane block just scanned (in cache), not from the grid.
-  const RankedVoxel candidate{exact_distance(voxel_lane, kLanes, query_features, channels_), voxel};
+  const RankedVoxel candidate{exact_distance(voxel_features, stride, query_features, channels_),
+                              voxel};
   if (!(candidate < query.bound) || candidate.distance > query.seed_bound)
     return;
   // Offers are batched: the witnesses are looked for again once the batch is half the shortlist,
   // so a query collecting many candidates (no far-apart witnesses yet) costs O(n log n), not n^2.
   query.pending.push_back(candidate);
-  if (query.pending.size() >= std::max<std::size_t>(kMinBatch, query.shortlist.size() / 2))
+  if (query.pending.size() >= std::max(tree_ ? kTreeBatch : kScanBatch, query.shortlist.size() / 2))
     merge_pending(query);
 }
 
@@ -181,8 +222,9 @@ void NearestOutsideWindows::accept_hits(Block& block, std::int64_t chunk,
       if (!(lanes[lane] < block.thresholds[j])) // an earlier lane lowered the threshold
         continue;
       QueryState& query = *block.queries[j];
+      // The voxel's features from the lane block just scanned (in cache), not from the grid.
       offer(query, block.query_features.data() + j * channels_,
-            static_cast<std::int32_t>(row_start + first_x + lane), chunk_features + lane);
+            static_cast<std::int32_t>(row_start + first_x + lane), chunk_features + lane, kLanes);
       block.thresholds[j] = threshold(query);
     }
   }
@@ -238,16 +280,72 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
   }
 }
 
-std::vector<std::vector<RankedVoxel>> NearestOutsideWindows::shortlists(std::int32_t first,
-                                                                        std::int32_t last) const {
-  const vol::Dims dims = features_.dims();
-  const int count = last - first;
+/// The tree search's view of one query: the radius is the query's current bound, and every
+/// visited voxel is offered like a scan hit.
+class NearestOutsideWindows::TreeVisitor final : public FeatureVisitor {
+public:
+  TreeVisitor(const NearestOutsideWindows& self, QueryState& query, const float* query_features)
+      : self_(self), query_(query), query_features_(query_features) {}
+  double radius() const override { return std::min(query_.bound.distance, query_.seed_bound); }
+  void visit(std::int32_t voxel) override {
+    self_.offer(query_, query_features_, voxel,
+                self_.features_.voxel(static_cast<std::size_t>(voxel)).data(), 1);
+  }
+
+private:
+  const NearestOutsideWindows& self_;
+  QueryState& query_;
+  const float* query_features_;
+};
+
+void NearestOutsideWindows::search_tree(QueryState& query) const {
+  const float* query_features = features_.voxel(static_cast<std::size_t>(query.voxel)).data();
+  TreeVisitor visitor(*this, query, query_features);
+  tree_->search(query_features, visitor);
+}
+
+std::vector<std::int32_t> NearestOutsideWindows::query_order() const {
+  if (tree_) {
+    std::vector<std::int32_t> order;
+    order.reserve(features_.voxel_count());
+    for (const std::int32_t voxel : tree_->leaf_order())
+      if (voxel >= 0) // not a padding lane
+        order.push_back(voxel);
+    return order;
+  }
+  std::vector<std::int32_t> order(features_.voxel_count());
+  for (std::size_t v = 0; v < order.size(); ++v)
+    order[v] = static_cast<std::int32_t>(v);
+  return order;
+}
+
+std::vector<std::vector<RankedVoxel>>
+NearestOutsideWindows::shortlists(std::span<const std::int32_t> query_voxels) const {
+  const int count = static_cast<int>(query_voxels.size());
   std::vector<QueryState> queries(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
-    queries[i].voxel = first + i;
-    queries[i].at = windows_.coordinates(first + i);
-    seed(queries[i]);
+    queries[i].voxel = query_voxels[static_cast<std::size_t>(i)];
+    queries[i].at = windows_.coordinates(queries[i].voxel);
   }
+  for (QueryState& query : queries)
+    seed(query);
+  if (tree_) {
+    for (QueryState& query : queries)
+      search_tree(query);
+  } else {
+    scan(queries);
+  }
+  for (QueryState& query : queries)
+    merge_pending(query);
+  std::vector<std::vector<RankedVoxel>> lists(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i)
+    lists[i] = std::move(queries[i].shortlist);
+  return lists;
+}
+
+void NearestOutsideWindows::scan(std::vector<QueryState>& queries) const {
+  const vol::Dims dims = features_.dims();
+  const int count = static_cast<int>(queries.size());
 
   // Blocks of kQueryBlock queries: their features, thresholds and window penalties per lane.
   std::vector<Block> blocks(static_cast<std::size_t>((count + kQueryBlock - 1) / kQueryBlock));
@@ -290,13 +388,6 @@ std::vector<std::vector<RankedVoxel>> NearestOutsideWindows::shortlists(std::int
   for (std::int64_t tile = 0; tile < rows; tile += rows_per_tile_)
     for (Block& block : blocks)
       scan_block(block, tile, std::min<std::int64_t>(rows, tile + rows_per_tile_));
-
-  for (QueryState& query : queries)
-    merge_pending(query);
-  std::vector<std::vector<RankedVoxel>> lists(static_cast<std::size_t>(count));
-  for (int i = 0; i < count; ++i)
-    lists[i] = std::move(queries[i].shortlist);
-  return lists;
 }
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -1,22 +1,28 @@
 #pragma once
 /// The distance kernel of the similarity sets: for query voxels p, every exemplar voxel that can
-/// still be one of p's k - 1 best matches outside the exclusion windows, found in one pass over all
-/// voxels with exact results.
+/// still be one of p's k - 1 best matches outside the exclusion windows, with exact results, found
+/// by one of two searches:
+/// - tree: a kd-tree over the features (feature_kd_tree) visits only the voxels
+///   within the current witness distance of p, which shrinks as witnesses are found;
+/// - scan: one pass over all voxels per block of queries (the brute-force kernel, kept as the
+///   reference the benchmark measures the tree against, and the better choice when many voxels
+///   have identical features).
 ///
-/// A fast pass (core/float_distance_scan: register-blocked, 8 queries x 16 voxels, features stored
-/// in 16-voxel lane blocks, one SIMD clone per instruction set) compares float distances against
-/// a per-query threshold; the few voxels under it get their exact double distance and enter a
-/// sorted shortlist. A voxel x can be dropped once the shortlist holds k - 1 voxels better than x
-/// (exact distance, then voxel index), outside p's window and pairwise more than 2 * half apart:
-/// no window holds two of them, so whichever k - 2 further windows the greedy selection opens, one
-/// of them stays better than x.
-/// The threshold carries a bound on the float rounding, so a voxel the fast pass skips is always
-/// provably droppable.
+/// The scan's fast pass (core/float_distance_scan: register-blocked, 8 queries x 16 voxels,
+/// features stored in 16-voxel lane blocks, one SIMD clone per instruction set) compares float
+/// distances against a per-query threshold; the few voxels under it get their exact double distance
+/// and enter a sorted shortlist. A voxel x can be dropped once the shortlist holds k - 1 voxels
+/// better than x (exact distance, then voxel index), outside p's window and pairwise more than 2 *
+/// half apart: no window holds two of them, so whichever k - 2 further windows the greedy selection
+/// opens, one of them stays better than x. The threshold carries a bound on the float rounding, so
+/// a voxel the fast pass skips is always provably droppable.
 #include "core/float_distance_scan.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -66,28 +72,52 @@ struct RankedVoxel {
   }
 };
 
-/// Shortlists of candidate voxels for query voxels, over one exemplar. Construction copies the
-/// features into lane blocks; shortlists() is thread-safe.
+/// How shortlists are searched (the same shortlists either way). automatic: the tree, unless the
+/// grid is small (under 32^3 voxels, where the scan is cheap) or more than 1% of the voxels share
+/// their exact features with another voxel (a tiling exemplar, flat colours): every such tie lies
+/// at distance 0 and the tree would visit them one by one, where the scan takes 16 at a time.
+enum class ShortlistSearch { automatic, tree, scan };
+
+/// The search `automatic` picks for these features.
+ShortlistSearch automatic_search(const vol::ChannelGrid& features);
+
+class FeatureKdTree;
+
+/// Shortlists of candidate voxels for query voxels, over one exemplar. Construction builds the
+/// kd-tree or copies the features into lane blocks; shortlists() is thread-safe.
 class NearestOutsideWindows {
 public:
   /// `witnesses` = k - 1 >= 1: how many pairwise far-apart better voxels drop a voxel. Features
   /// must be finite and small enough that float squared distances cannot overflow.
   NearestOutsideWindows(const vol::ChannelGrid& features, const ExclusionWindows& windows,
-                        int witnesses);
+                        int witnesses, ShortlistSearch search = ShortlistSearch::automatic);
+  ~NearestOutsideWindows();
 
-  /// For each query voxel q in [first, last): the voxels outside q's window that may be among its
-  /// k - 1 greedy picks, sorted by (exact distance, voxel). Every voxel outside the window that is
-  /// not listed is worse than k - 1 listed voxels that are pairwise far apart.
-  std::vector<std::vector<RankedVoxel>> shortlists(std::int32_t first, std::int32_t last) const;
+  /// For each query voxel q: the voxels outside q's window that may be among its k - 1 greedy
+  /// picks, sorted by (exact distance, voxel). Every voxel outside the window that is not listed
+  /// is worse than k - 1 listed voxels that are pairwise far apart.
+  std::vector<std::vector<RankedVoxel>>
+  shortlists(std::span<const std::int32_t> query_voxels) const;
+
+  /// Every voxel once, in the order queries are cheapest in: the tree's leaf order (neighbours in
+  /// feature space, so consecutive searches find the same nodes in cache), or the grid's for the
+  /// scan (neighbours in the grid share the window rows).
+  std::vector<std::int32_t> query_order() const;
 
 private:
   struct QueryState;
   struct Block;
+  class TreeVisitor;
+  /// Offers every voxel within reach of the queries: one pass over all lane blocks.
+  void scan(std::vector<QueryState>& queries) const;
+  /// Offers the voxels the kd-tree finds within the query's bound.
+  void search_tree(QueryState& query) const;
   void scan_block(Block& block, std::int64_t row_begin, std::int64_t row_end) const;
   void accept_hits(Block& block, std::int64_t chunk, const float* distances) const;
   void seed(QueryState& query) const;
+  /// Channel c of the voxel's features is voxel_features[c * stride].
   void offer(QueryState& query, const float* query_features, std::int32_t voxel,
-             const float* voxel_lane) const;
+             const float* voxel_features, std::ptrdiff_t stride) const;
   void merge_pending(QueryState& query) const;
   std::size_t last_witness(const std::vector<RankedVoxel>& sorted) const;
   float threshold(const QueryState& query) const;
@@ -99,7 +129,8 @@ private:
   int chunks_per_row_;
   int rows_per_tile_;
   FloatDistanceBound float_bound_;
-  std::vector<float> lane_blocks_; ///< per 16-voxel chunk of a row: channel-major, 16 lanes each
+  std::vector<float> lane_blocks_; ///< scan: per 16-voxel chunk of a row, channel-major, 16 lanes
+  std::unique_ptr<FeatureKdTree> tree_; ///< tree search
 };
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -11,6 +11,9 @@
 #include <array>
 #include <atomic>
 #include <limits>
+#include <memory>
+#include <numeric>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -62,7 +65,15 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
   const int k = options.k;
   const ExclusionWindows windows{features.dims(), options.window / 2, options.periodic};
 
-  // This rank's contiguous range of query voxels.
+  // Queries in the search's cheapest order; this rank takes a contiguous range of positions.
+  std::unique_ptr<NearestOutsideWindows> scanner;
+  if (k > 1)
+    scanner = std::make_unique<NearestOutsideWindows>(features, windows, k - 1, options.search);
+  std::vector<std::int32_t> order(voxels);
+  if (scanner)
+    order = scanner->query_order();
+  else
+    std::iota(order.begin(), order.end(), 0);
   const auto range_start = [&](int rank) {
     return static_cast<std::int32_t>(static_cast<std::int64_t>(n) * rank / comm.size);
   };
@@ -70,11 +81,10 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
   const std::int32_t last = range_start(comm.rank + 1);
   std::vector<std::int32_t> local(static_cast<std::size_t>(last - first) * k);
 
-  if (k == 1) {
-    for (std::int32_t v = first; v < last; ++v)
-      local[static_cast<std::size_t>(v - first)] = v;
+  if (!scanner) {
+    for (std::int32_t i = first; i < last; ++i)
+      local[static_cast<std::size_t>(i - first)] = order[static_cast<std::size_t>(i)];
   } else {
-    const NearestOutsideWindows scanner(features, windows, k - 1);
     const std::int32_t tasks = (last - first + kQueriesPerTask - 1) / kQueriesPerTask;
     Progress progress(comm.size > 1 ? "similarity sets (rank 0's share)" : "similarity sets",
                       last - first, "voxels");
@@ -83,10 +93,13 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     for (std::int32_t task = 0; task < tasks; ++task) {
       const std::int32_t begin = first + task * kQueriesPerTask;
       const std::int32_t end = std::min(last, begin + kQueriesPerTask);
-      const auto lists = scanner.shortlists(begin, end);
-      for (std::int32_t q = begin; q < end; ++q)
-        select_candidates(q, lists[static_cast<std::size_t>(q - begin)], windows, k,
-                          local.data() + static_cast<std::size_t>(q - first) * k);
+      const std::span<const std::int32_t> queries(order.data() + begin,
+                                                  static_cast<std::size_t>(end - begin));
+      const auto lists = scanner->shortlists(queries);
+      for (std::int32_t i = begin; i < end; ++i)
+        select_candidates(order[static_cast<std::size_t>(i)],
+                          lists[static_cast<std::size_t>(i - begin)], windows, k,
+                          local.data() + static_cast<std::size_t>(i - first) * k);
       const std::int64_t finished = done += end - begin;
       if (omp_get_thread_num() == 0)
         progress.update(finished);
@@ -95,15 +108,19 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     progress.finish();
   }
 
-  SimilaritySets sets{features.dims(), k, std::vector<std::int32_t>(voxels * k)};
+  std::vector<std::int32_t> by_position(voxels * k);
   std::vector<int> counts(static_cast<std::size_t>(comm.size));
   std::vector<int> offsets(static_cast<std::size_t>(comm.size));
   for (int r = 0; r < comm.size; ++r) {
     offsets[r] = range_start(r) * k;
     counts[r] = (range_start(r + 1) - range_start(r)) * k;
   }
-  MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_INT32_T, sets.candidates.data(),
+  MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_INT32_T, by_position.data(),
                  counts.data(), offsets.data(), MPI_INT32_T, comm.raw);
+  SimilaritySets sets{features.dims(), k, std::vector<std::int32_t>(voxels * k)};
+  for (std::size_t i = 0; i < voxels; ++i)
+    std::copy_n(by_position.begin() + static_cast<std::ptrdiff_t>(i) * k, k,
+                sets.candidates.begin() + static_cast<std::ptrdiff_t>(order[i]) * k);
   return sets;
 }
 

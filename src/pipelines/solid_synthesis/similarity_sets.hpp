@@ -4,6 +4,7 @@
 /// whose features are nearest to p's among the voxels outside the n x n x n windows centred on
 /// C_1(p) ... C_i(p). The synthesis' correction step draws its candidates from these sets.
 #include "par/comm.hpp"
+#include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <cstdint>
@@ -19,6 +20,8 @@ struct SimilarityOptions {
   int window = 7;
   /// Toroidal differences for the windows (a tileable exemplar); plain ones otherwise.
   bool periodic = true;
+  /// kd-tree, brute-force scan, or whichever suits the features: the same sets, at different cost.
+  ShortlistSearch search = ShortlistSearch::automatic;
 };
 
 /// candidates[v * k + i] = C_{i+1}(v) as a voxel storage index (x fastest); C_1(v) = v.
@@ -33,7 +36,8 @@ struct SimilaritySets {
 /// go to the smaller voxel index; when no voxel is left outside the windows (tiny exemplars) the
 /// last candidate repeats. Exact: the same sets as a brute-force search, for any rank and thread
 /// count. Collective over `comm`: ranks split the voxels into contiguous ranges (OpenMP threads
-/// share a rank's range) and every rank returns the full sets. Costs about 2 d N^2 flops.
+/// share a rank's range) and every rank returns the full sets. The scan costs about 2 d N^2
+/// flops; the tree visits only the voxels within each query's witness distance.
 SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGrid& features,
                                      const SimilarityOptions& options);
 

@@ -56,6 +56,11 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
   if (settings.similarity.window % 2 == 0)
     similarity.fail("window", "an odd integer (the exclusion window is centred on a candidate)");
   settings.similarity.periodic = settings.exemplar.border == ExemplarBorder::toroidal;
+  settings.similarity.search =
+      similarity.choice<ShortlistSearch>("search", settings.similarity.search,
+                                         {{"auto", ShortlistSearch::automatic},
+                                          {"tree", ShortlistSearch::tree},
+                                          {"scan", ShortlistSearch::scan}});
   settings.cache_dir = similarity.get<std::string>("cache_dir", settings.cache_dir.string());
 
   const auto synthesis = section.section("synthesis");

@@ -1,0 +1,78 @@
+#pragma once
+/// A kd-tree over the voxels of a feature grid for exact searches whose radius shrinks as they go:
+/// the similarity sets' shortlists (nearest_outside_windows) ask it for every voxel that can still
+/// beat their current witnesses, instead of scanning all N voxels per query.
+///
+/// Median splits along the widest channel down to leaves of one 16-voxel lane block (the layout
+/// of core/float_distance_scan), each node with its bounding box. A search descends nearer child
+/// first and computes a leaf's 16 float distances at once; a node or lane is skipped only when its
+/// float distance (to the box's nearest point, or to the voxel) proves it farther than the radius
+/// (FloatDistanceBound, strict).
+///
+/// Written here rather than taken from nanoflann (which surface_synthesis' pruned search uses):
+/// nanoflann evaluates leaf points one at a time in double; on the 64^3 marble features it
+/// evaluated about 1,500 points per query at about 18 ns each, slower per query than the
+/// SIMD float leaves by a factor the benchmark reports (scripts/bench similarity-set).
+#include "core/float_distance_scan.hpp"
+#include "vol/channel_grid.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace texsim::pipelines::solid_synthesis {
+
+/// What a search reports to: its current radius, and the voxels that may lie within it.
+class FeatureVisitor {
+public:
+  virtual ~FeatureVisitor() = default;
+  /// Squared feature distance beyond which voxels may be skipped; may shrink during a search.
+  virtual double radius() const = 0;
+  /// A voxel whose squared distance to the query may be at most radius().
+  virtual void visit(std::int32_t voxel) = 0;
+};
+
+class FeatureKdTree {
+public:
+  /// Builds the tree over every voxel of `features` (finite values no larger than
+  /// FloatDistanceBound::largest_safe_value()).
+  explicit FeatureKdTree(const vol::ChannelGrid& features);
+
+  /// Visits every voxel whose exact squared distance to `query` (channels() floats of the grid's
+  /// kind) is at most visitor.radius() (re-read after each visit), and some farther ones; each
+  /// voxel at most once. Thread-safe.
+  void search(const float* query, FeatureVisitor& visitor) const;
+
+  /// The voxels in leaf order: queries taken in this order reuse the same nodes from cache.
+  const std::vector<std::int32_t>& leaf_order() const { return voxels_; }
+
+  int channels() const { return channels_; }
+  /// Bytes held: lane blocks, voxel ids, nodes and boxes.
+  std::size_t memory_bytes() const;
+
+private:
+  struct Node {
+    std::int32_t first_child = -1; ///< the second child follows it; -1: a leaf
+    std::int32_t chunk = -1;       ///< a leaf's lane block
+  };
+  /// Fills node `node` with the voxels order[16 chunk_begin, min(16 chunk_end, voxel count)),
+  /// split at the median of their widest channel until one lane block is left.
+  void build_node(std::int32_t node, const vol::ChannelGrid& features,
+                  std::vector<std::int32_t>& order, std::int64_t chunk_begin,
+                  std::int64_t chunk_end, int depth);
+  /// Float squared distance from the query to the node's box (its voxels are no nearer).
+  float box_distance(std::int32_t node, const float* query) const;
+  /// Reports the lanes of a leaf under the float `threshold` of the radius; returns the threshold
+  /// of the radius after the visits.
+  float scan_leaf(std::int32_t chunk, const float* query, FeatureVisitor& visitor,
+                  float threshold) const;
+
+  int channels_ = 0;
+  FloatDistanceBound float_bound_;
+  std::vector<float> lane_blocks_;   ///< per leaf: channels x 16 lanes, padding lanes +inf
+  std::vector<std::int32_t> voxels_; ///< per leaf: 16 voxel ids (-1 for padding)
+  std::vector<Node> nodes_;
+  std::vector<float> boxes_; ///< per node: channels lows, then channels highs
+};
+
+} // namespace texsim::pipelines::solid_synthesis
