@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -11,15 +12,20 @@ namespace texsim::pipelines::solid_synthesis {
 namespace {
 
 constexpr int kLanes = kScanLanes;
+/// Channels per SIMD group of a box (one AVX2 register); boxes are padded to whole groups.
+constexpr int kGroup = 8;
+using Group = float __attribute__((vector_size(kGroup * sizeof(float))));
 /// Deeper than any tree over 2^31 voxels (median splits halve the lane blocks).
 constexpr int kMaxDepth = 40;
 
 } // namespace
 
 FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features)
-    : channels_(features.channels()), float_bound_(features.channels()) {
+    : channels_(features.channels()),
+      box_width_((features.channels() + kGroup - 1) / kGroup * kGroup),
+      float_bound_(features.channels()) {
   const auto voxel_count = static_cast<std::int64_t>(features.voxel_count());
-  TEXSIM_VERIFY(channels_ >= 1 && voxel_count > 0 &&
+  TEXSIM_VERIFY(channels_ >= 1 && channels_ <= kMaxChannels && voxel_count > 0 &&
                     voxel_count <= std::numeric_limits<std::int32_t>::max(),
                 "feature kd-tree: " << voxel_count << " voxels of " << channels_
                                     << " channels cannot be indexed");
@@ -32,7 +38,7 @@ FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features)
     order[v] = static_cast<std::int32_t>(v);
   nodes_.reserve(static_cast<std::size_t>(2 * chunks));
   nodes_.emplace_back();
-  boxes_.resize(static_cast<std::size_t>(2 * channels_));
+  boxes_.resize(static_cast<std::size_t>(2 * box_width_)); // padding channels stay 0
   build_node(0, features, order, 0, chunks, 0);
 }
 
@@ -42,9 +48,9 @@ void FeatureKdTree::build_node(std::int32_t node, const vol::ChannelGrid& featur
   TEXSIM_VERIFY(depth <= kMaxDepth, "feature kd-tree: deeper than " << kMaxDepth);
   const auto first = static_cast<std::size_t>(chunk_begin * kLanes);
   const auto last = std::min(static_cast<std::size_t>(chunk_end * kLanes), order.size());
-  float* low = boxes_.data() + static_cast<std::size_t>(node) * 2 * channels_;
-  float* high = low + channels_;
-  std::fill(low, high, std::numeric_limits<float>::infinity());
+  float* low = boxes_.data() + static_cast<std::size_t>(node) * 2 * box_width_;
+  float* high = low + box_width_;
+  std::fill(low, low + channels_, std::numeric_limits<float>::infinity());
   std::fill(high, high + channels_, -std::numeric_limits<float>::infinity());
   for (std::size_t i = first; i < last; ++i) {
     const auto f = features.voxel(static_cast<std::size_t>(order[i]));
@@ -82,75 +88,97 @@ void FeatureKdTree::build_node(std::int32_t node, const vol::ChannelGrid& featur
   const auto child = static_cast<std::int32_t>(nodes_.size());
   nodes_.emplace_back();
   nodes_.emplace_back();
-  boxes_.resize(nodes_.size() * 2 * static_cast<std::size_t>(channels_));
+  boxes_.resize(nodes_.size() * 2 * static_cast<std::size_t>(box_width_));
   nodes_[static_cast<std::size_t>(node)].first_child = child;
   build_node(child, features, order, chunk_begin, middle_chunk, depth + 1);
   build_node(child + 1, features, order, middle_chunk, chunk_end, depth + 1);
 }
 
-float FeatureKdTree::box_distance(std::int32_t node, const float* query) const {
-  // The float distance to the box's nearest point, clamp(q, low, high): a point of floats, so the
-  // scan's rounding bound (FloatDistanceBound) covers it like a voxel. Branch-free.
-  // Four partial sums, so the compiler can use one SIMD register for four channels (the rounding
-  // bound holds for any summation order).
-  const float* low = boxes_.data() + static_cast<std::size_t>(node) * 2 * channels_;
-  const float* high = low + channels_;
-  const auto gap_squared = [&](int c) {
-    const float gap = std::max(std::max(low[c] - query[c], query[c] - high[c]), 0.0f);
-    return gap * gap;
-  };
-  float partial[4] = {};
-  int c = 0;
-  for (; c + 4 <= channels_; c += 4)
-    for (int lane = 0; lane < 4; ++lane)
-      partial[lane] += gap_squared(c + lane);
-  for (; c < channels_; ++c)
-    partial[0] += gap_squared(c);
-  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+namespace {
+
+/// Float squared distance from a query (padded with zeros to `groups` x kGroup channels) to a
+/// box: the distance to its nearest point, clamp(q, low, high), whose coordinates are floats, so
+/// the scan's rounding bound (FloatDistanceBound, any summation order) covers it like a voxel.
+[[gnu::always_inline]] inline float box_distance(const float* box, const float* query, int groups) {
+  const float* low = box;
+  const float* high = box + groups * kGroup;
+  Group sum = {};
+  for (int g = 0; g < groups; ++g) {
+    Group lo, hi, q;
+    std::memcpy(&lo, low + g * kGroup, sizeof lo);
+    std::memcpy(&hi, high + g * kGroup, sizeof hi);
+    std::memcpy(&q, query + g * kGroup, sizeof q);
+    const Group below = lo - q, above = q - hi;
+    Group gap = below > above ? below : above;
+    gap = gap > Group{} ? gap : Group{};
+    sum += gap * gap;
+  }
+  return ((sum[0] + sum[1]) + (sum[2] + sum[3])) + ((sum[4] + sum[5]) + (sum[6] + sum[7]));
 }
 
-float FeatureKdTree::scan_leaf(std::int32_t chunk, const float* query, FeatureVisitor& visitor,
-                               float threshold) const {
-  const float* block = lane_blocks_.data() + static_cast<std::size_t>(chunk) * kLanes * channels_;
-  float distances[kLanes] = {};
-  for (int c = 0; c < channels_; ++c) {
-    const float q = query[c];
-    const float* lanes = block + c * kLanes;
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const float diff = lanes[lane] - q;
-      distances[lane] += diff * diff;
-    }
-  }
+/// A leaf's lanes under the threshold, as the scan kernel reports them: visited, and the
+/// threshold follows the visitor's shrinking radius.
+struct LeafVisits {
+  const FloatDistanceBound* bound;
+  const std::int32_t* voxels;
+  FeatureVisitor* visitor;
+  float thresholds[kScanQueries];
+};
+
+void visit_lanes(void* context, std::int64_t chunk, const float* distances) {
+  auto& leaf = *static_cast<LeafVisits*>(context);
+  float& threshold = leaf.thresholds[0];
   for (unsigned below = lanes_below(distances, threshold); below != 0; below &= below - 1) {
     const int lane = __builtin_ctz(below);
     if (!(distances[lane] < threshold)) // an earlier visit shrank the radius
       continue;
-    visitor.visit(voxels_[static_cast<std::size_t>(chunk) * kLanes + lane]);
-    threshold = float_bound_.threshold(visitor.radius(), true);
+    leaf.visitor->visit(leaf.voxels[chunk * kLanes + lane]);
+    threshold = leaf.bound->threshold(leaf.visitor->radius(), true);
   }
-  return threshold;
 }
 
-void FeatureKdTree::search(const float* query, FeatureVisitor& visitor) const {
-  // Strict: a node or lane is skipped only when its float distance (to the box's nearest point,
-  // or to the voxel) proves every voxel in it farther than the radius, which changes only when a
-  // voxel is visited.
-  float threshold = float_bound_.threshold(visitor.radius(), true);
+} // namespace
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void
+FeatureKdTree::search(const float* query, FeatureVisitor& visitor) const {
+  // Strict thresholds: a node or lane is skipped only when its float distance (to the box's
+  // nearest point, or to the voxel) proves every voxel in it farther than the radius, which
+  // changes only when a voxel is visited.
+  const int groups = box_width_ / kGroup;
+  float padded[kMaxChannels] = {};
+  std::copy(query, query + channels_, padded);
+  LeafVisits leaf{&float_bound_, voxels_.data(), &visitor, {}};
+  float& threshold = leaf.thresholds[0];
+  threshold = float_bound_.threshold(visitor.radius(), true);
+  FloatDistanceScan scan{};
+  scan.lane_blocks = lane_blocks_.data();
+  scan.channels = channels_;
+  scan.query_features = query;
+  scan.thresholds = leaf.thresholds;
+  scan.on_hit = visit_lanes;
+  scan.context = &leaf;
+  const auto box_of = [&](std::int32_t node) {
+    return boxes_.data() + static_cast<std::size_t>(node) * 2 * box_width_;
+  };
+
   // Depth first, nearer child first; each entry carries its box distance.
   std::array<std::pair<std::int32_t, float>, kMaxDepth + 2> stack;
   int top = 0;
-  stack[top++] = {0, box_distance(0, query)};
+  stack[top++] = {0, box_distance(box_of(0), padded, groups)};
   while (top > 0) {
     const auto [node, lower_bound] = stack[--top];
     if (!(lower_bound < threshold))
       continue;
     const Node& here = nodes_[static_cast<std::size_t>(node)];
     if (here.first_child < 0) {
-      threshold = scan_leaf(here.chunk, query, visitor, threshold);
+      scan.chunk_begin = here.chunk;
+      scan.chunk_end = here.chunk + 1;
+      scan_float_distances_single(scan);
       continue;
     }
     const std::int32_t a = here.first_child, b = here.first_child + 1;
-    const float to_a = box_distance(a, query), to_b = box_distance(b, query);
+    const float to_a = box_distance(box_of(a), padded, groups);
+    const float to_b = box_distance(box_of(b), padded, groups);
     if (to_a <= to_b) {
       stack[top++] = {b, to_b};
       stack[top++] = {a, to_a};

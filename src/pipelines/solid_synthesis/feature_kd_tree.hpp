@@ -5,7 +5,8 @@
 ///
 /// Median splits along the widest channel down to leaves of one 16-voxel lane block (the layout
 /// of core/float_distance_scan), each node with its bounding box. A search descends nearer child
-/// first and computes a leaf's 16 float distances at once; a node or lane is skipped only when its
+/// first (boxes compared 8 channels per SIMD operation, one clone per instruction set) and scans
+/// a leaf's 16 lanes with the scan's one-query kernel; a node or lane is skipped only when its
 /// float distance (to the box's nearest point, or to the voxel) proves it farther than the radius
 /// (FloatDistanceBound, strict).
 ///
@@ -34,6 +35,7 @@ public:
 
 class FeatureKdTree {
 public:
+  static constexpr int kMaxChannels = 64; ///< as many as the appearance space allows
   /// Builds the tree over every voxel of `features` (finite values no larger than
   /// FloatDistanceBound::largest_safe_value()).
   explicit FeatureKdTree(const vol::ChannelGrid& features);
@@ -60,19 +62,14 @@ private:
   void build_node(std::int32_t node, const vol::ChannelGrid& features,
                   std::vector<std::int32_t>& order, std::int64_t chunk_begin,
                   std::int64_t chunk_end, int depth);
-  /// Float squared distance from the query to the node's box (its voxels are no nearer).
-  float box_distance(std::int32_t node, const float* query) const;
-  /// Reports the lanes of a leaf under the float `threshold` of the radius; returns the threshold
-  /// of the radius after the visits.
-  float scan_leaf(std::int32_t chunk, const float* query, FeatureVisitor& visitor,
-                  float threshold) const;
 
   int channels_ = 0;
+  int box_width_ = 0; ///< channels rounded up to whole SIMD groups
   FloatDistanceBound float_bound_;
   std::vector<float> lane_blocks_;   ///< per leaf: channels x 16 lanes, padding lanes +inf
   std::vector<std::int32_t> voxels_; ///< per leaf: 16 voxel ids (-1 for padding)
   std::vector<Node> nodes_;
-  std::vector<float> boxes_; ///< per node: channels lows, then channels highs
+  std::vector<float> boxes_; ///< per node: box_width_ lows, then box_width_ highs (padding 0)
 };
 
 } // namespace texsim::pipelines::solid_synthesis
