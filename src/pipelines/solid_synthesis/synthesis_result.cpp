@@ -1,11 +1,10 @@
 #include "pipelines/solid_synthesis/synthesis_result.hpp"
 
 #include "core/error.hpp"
+#include "par/gather_to_root.hpp"
 #include "vol/cross_section_writer.hpp"
 #include "vol/vdb_io.hpp"
 #include "vol/vti_io.hpp"
-
-#include <mpi.h>
 
 #include <algorithm>
 #include <string>
@@ -34,17 +33,14 @@ SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
   std::vector<Coord> local;
   if (!slab.layout().replicated || comm.is_root())
     local = cropped_owned(slab, dims);
-  const int local_ints = static_cast<int>(local.size() * 3);
-  std::vector<int> counts(comm.size), displacements(comm.size);
-  MPI_Gather(&local_ints, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw);
-  for (int r = 1; r < comm.size; ++r)
-    displacements[r] = displacements[r - 1] + counts[r - 1];
-  const vol::Dims grid_dims{dims[0], dims[1], dims[2]};
-  std::vector<Coord> all(comm.is_root() ? grid_dims.count() : 0);
-  MPI_Gatherv(local.data(), local_ints, MPI_INT32_T, all.data(), counts.data(),
-              displacements.data(), MPI_INT32_T, 0, comm.raw);
+  // Slabs are in z order by rank, so rank order is the volume's order; any size per rank.
+  const std::vector<Coord> all = par::gather_to_root(comm, std::span<const Coord>(local));
   if (!comm.is_root())
     return {};
+  const vol::Dims grid_dims{dims[0], dims[1], dims[2]};
+  TEXSIM_VERIFY(all.size() == grid_dims.count(), "gathered " << all.size() << " voxels for a "
+                                                             << grid_dims.count()
+                                                             << "-voxel result");
 
   SynthesisResult result{vol::ChannelGrid(grid_dims, 3),
                          vol::ChannelGrid(grid_dims, exemplar.channels())};

@@ -1,0 +1,44 @@
+#include "par/gather_to_root.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace texsim::par {
+
+std::vector<std::byte> gather_to_root(const Comm& comm, std::span<const std::byte> mine, int root,
+                                      std::size_t max_message) {
+  TEXSIM_VERIFY(max_message >= 1 && max_message <= kMaxGatherMessage,
+                "gather_to_root: message size " << max_message << " out of range");
+  constexpr int kTag = 7301;
+  const std::uint64_t my_size = mine.size();
+  std::vector<std::uint64_t> sizes(comm.rank == root ? static_cast<std::size_t>(comm.size) : 0);
+  MPI_Gather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, root, comm.raw);
+  if (comm.rank != root) {
+    for (std::size_t at = 0; at < mine.size(); at += max_message)
+      MPI_Send(mine.data() + at, static_cast<int>(std::min(max_message, mine.size() - at)),
+               MPI_BYTE, root, kTag, comm.raw);
+    return {};
+  }
+  std::uint64_t total = 0;
+  for (const auto size : sizes)
+    total += size;
+  std::vector<std::byte> all(total);
+  std::byte* out = all.data();
+  for (int rank = 0; rank < comm.size; ++rank) {
+    const std::uint64_t size = sizes[static_cast<std::size_t>(rank)];
+    if (rank == root) {
+      if (size > 0)
+        std::memcpy(out, mine.data(), size);
+    } else {
+      for (std::uint64_t at = 0; at < size; at += max_message)
+        MPI_Recv(out + at, static_cast<int>(std::min<std::uint64_t>(max_message, size - at)),
+                 MPI_BYTE, rank, kTag, comm.raw, MPI_STATUS_IGNORE);
+    }
+    out += size;
+  }
+  return all;
+}
+
+} // namespace texsim::par
