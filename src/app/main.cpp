@@ -8,6 +8,7 @@
 #include "app/run_settings.hpp"
 #include "app/summary_writer.hpp"
 #include "core/log.hpp"
+#include "core/peak_memory.hpp"
 #include "core/stage_timers.hpp"
 #include "core/stop_signal.hpp"
 #include "par/collective.hpp"
@@ -21,6 +22,8 @@
 #include <iostream>
 #include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 namespace texsim::app {
 namespace {
@@ -125,10 +128,17 @@ int execute(const par::Comm& comm, const CommandLine& line) {
   pipelines::RunContext context{comm, run.common.run, timers, report};
   run.pipeline->run(context);
 
+  const std::int64_t peak = peak_resident_bytes();
+  std::vector<std::int64_t> peaks(comm.is_root() ? static_cast<std::size_t>(comm.size) : 0);
+  MPI_Gather(&peak, 1, MPI_INT64_T, peaks.data(), 1, MPI_INT64_T, 0, comm.raw);
   if (comm.is_root()) {
-    SummaryHeader header{run.common.pipeline,        comm.size,
-                         omp_get_max_threads(),      wall_seconds() - start_s,
-                         run.common.run.config_hash, run.common.run.restart.has_value()};
+    SummaryHeader header{run.common.pipeline,
+                         comm.size,
+                         omp_get_max_threads(),
+                         wall_seconds() - start_s,
+                         run.common.run.config_hash,
+                         run.common.run.restart.has_value(),
+                         std::move(peaks)};
     write_summary(run.common.run.output_dir, header, timers, report);
   }
   log::info(log::cat("done in ", wall_seconds() - start_s,

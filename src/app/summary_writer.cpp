@@ -3,6 +3,8 @@
 #include "core/atomic_output.hpp"
 #include "texsim/version.hpp"
 
+#include <algorithm>
+
 namespace texsim::app {
 
 void write_summary(const std::filesystem::path& output_dir, const SummaryHeader& header,
@@ -19,6 +21,11 @@ void write_summary(const std::filesystem::path& output_dir, const SummaryHeader&
   for (const auto& stage : timers.stages())
     summary["stages"].push_back(
         {{"name", stage.name}, {"wall_s", stage.wall_s}, {"calls", stage.calls}});
+  if (!header.peak_resident_bytes.empty())
+    summary["memory"] = {
+        {"peak_resident_bytes_per_rank", header.peak_resident_bytes},
+        {"peak_resident_bytes_max",
+         *std::max_element(header.peak_resident_bytes.begin(), header.peak_resident_bytes.end())}};
   summary["metrics"] = report.metrics();
   summary["outputs"] = report.outputs();
 

@@ -3,8 +3,10 @@
 #include "core/run_report.hpp"
 #include "core/stage_timers.hpp"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace texsim::app {
 
@@ -15,6 +17,8 @@ struct SummaryHeader {
   double wall_s = 0;
   std::string config_hash;
   bool restarted = false;
+  /// Peak resident memory of each rank (getrusage), for the memory-per-rank figures.
+  std::vector<std::int64_t> peak_resident_bytes;
 };
 
 /// Writes <output_dir>/summary.json atomically (core/atomic_output.hpp). Rank 0 only.

@@ -42,6 +42,10 @@ TEST(LevelLayout, SlabsTileEachLevelAndNestUnderTheirParents) {
       if (!level_layout(level, 0, ranks).replicated) {
         EXPECT_EQ(next, 1 << level);
       }
+      // Only levels too thin to give every rank a halo's thickness are replicated.
+      EXPECT_EQ(level_layout(level, 0, ranks).replicated,
+                ranks == 1 || (1 << level) < kSlabHalo * ranks)
+          << "level " << level << " at " << ranks << " ranks";
     }
 }
 

@@ -7,7 +7,9 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-constexpr int kMinPlanesPerRank = 4;
+/// Slabs as thin as the halo: the ring exchange then still finds every halo plane on the next
+/// rank, and a child's parent plane lies in the rank's own slab by the doubling of the bounds.
+constexpr int kMinPlanesPerRank = kSlabHalo;
 
 } // namespace
 

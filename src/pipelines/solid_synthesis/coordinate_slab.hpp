@@ -34,8 +34,9 @@ struct LevelLayout {
 };
 
 /// Layout of pyramid level `level` (2^level voxels a side) on `rank` of `ranks`. The first level
-/// at least 4 planes per rank thick is split evenly; every finer level doubles those bounds, so a
-/// child plane's parent is always in the rank's own parent slab.
+/// at least kSlabHalo (2) planes per rank thick is split evenly; every finer level doubles those
+/// bounds, so a child plane's parent is always in the rank's own parent slab. Coarser levels are
+/// replicated.
 LevelLayout level_layout(int level, int rank, int ranks);
 
 /// Planes of halo on each side: the correction reads voxels up to 2 planes away.

@@ -166,11 +166,13 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
         slab = std::make_unique<CoordinateSlab>(std::move(*next));
       }
       levels.push_back(level_json(stats));
-      log::info(log::cat("level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
-                         stats.corrected ? ", corrected" : ", not corrected",
-                         stats.corrected
-                             ? log::cat(", mean match distance ", stats.mean_match_distance)
-                             : std::string()));
+      log::info(log::cat(
+          "level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
+          slab->layout().replicated && comm.size > 1 ? ", replicated (fewer than 2 planes per rank)"
+                                                     : "",
+          stats.corrected ? ", corrected" : ", not corrected",
+          stats.corrected ? log::cat(", mean match distance ", stats.mean_match_distance)
+                          : std::string()));
       const auto decision = clock.after_step(level);
       if (decision.checkpoint || (run.checkpoint_every > 0 && level == pyramid_levels)) {
         auto checkpoint = ctx.timers.scope("checkpoint");
