@@ -335,6 +335,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
       if (stop && stop())
         return false;
       slab.exchange_halo(comm_);
+      ++stats.halo_exchanges;
       const int first_k = layout.z_begin + ((layout.z_begin & 1) != cz ? 1 : 0);
       const int class_planes = first_k < layout.z_end ? (layout.z_end - first_k + 1) / 2 : 0;
       const int row = half;
@@ -368,6 +369,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
     }
   }
   slab.exchange_halo(comm_);
+  ++stats.halo_exchanges;
   // Replicated levels are computed in full on every rank: count them once.
   const double local = layout.replicated && comm_.rank != 0 ? 0.0 : distance_sum;
   double total = 0.0;

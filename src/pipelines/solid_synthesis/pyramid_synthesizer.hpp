@@ -45,6 +45,8 @@ struct LevelStats {
   /// Mean over the level's voxels of the squared appearance-space distance between N_S(p) and the
   /// chosen N_E(u) in the last pass (0 when not corrected).
   double mean_match_distance = 0.0;
+  /// Halo exchanges the level made (before each correction subpass and after the last).
+  int halo_exchanges = 0;
 };
 
 class PyramidSynthesizer {

@@ -41,12 +41,24 @@ SimilaritySets obtain_similarity_sets(const par::Comm& comm, const vol::ChannelG
   return sets;
 }
 
-nlohmann::json level_json(const LevelStats& stats) {
-  return {{"level", stats.level},
-          {"spacing", stats.spacing},
-          {"stack_level", stats.stack_level},
-          {"corrected", stats.corrected},
-          {"mean_match_distance", stats.mean_match_distance}};
+/// A level's report, with the work of the busiest rank (voxels it computes; a replicated level is
+/// computed whole on every rank) and the halo bytes a rank sends per exchange. Collective.
+nlohmann::json level_json(const par::Comm& comm, const LevelStats& stats,
+                          const LevelLayout& layout) {
+  const std::int64_t plane = std::int64_t{layout.size} * layout.size;
+  std::int64_t owned = (layout.z_end - layout.z_begin) * plane;
+  MPI_Allreduce(MPI_IN_PLACE, &owned, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+  const bool split = !layout.replicated;
+  return {
+      {"level", stats.level},
+      {"spacing", stats.spacing},
+      {"stack_level", stats.stack_level},
+      {"corrected", stats.corrected},
+      {"mean_match_distance", stats.mean_match_distance},
+      {"replicated", layout.replicated && comm.size > 1},
+      {"voxels_max_rank", owned},
+      {"halo_exchanges", stats.halo_exchanges},
+      {"halo_bytes_per_exchange", split ? 2 * kSlabHalo * plane * std::int64_t{sizeof(Coord)} : 0}};
 }
 
 } // namespace
@@ -165,7 +177,7 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
         }
         slab = std::make_unique<CoordinateSlab>(std::move(*next));
       }
-      levels.push_back(level_json(stats));
+      levels.push_back(level_json(comm, stats, slab->layout()));
       log::info(log::cat(
           "level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
           slab->layout().replicated && comm.size > 1 ? ", replicated (fewer than 2 planes per rank)"
