@@ -16,6 +16,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLImageDataWriter.h>
+#include <vtkXMLPImageDataReader.h>
 
 namespace texsim::vol {
 namespace {
@@ -29,11 +30,11 @@ float component(const img::Rgb& v, int c) {
 
 template <class T>
 void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
-                const std::string& array_name) {
+                const std::string& array_name, int z_first) {
   const Dims dims = grid.dims();
   const int components = voxel_components<T>;
   vtkNew<vtkImageData> image;
-  image->SetDimensions(dims.nx, dims.ny, dims.nz);
+  image->SetExtent(0, dims.nx - 1, 0, dims.ny - 1, z_first, z_first + dims.nz - 1);
   image->SetSpacing(grid.spacing().data());
   image->SetOrigin(grid.origin().data());
   vtkNew<vtkFloatArray> values;
@@ -85,19 +86,22 @@ template <class T> DenseGrid<T> copy_array(vtkImageData& image, vtkDataArray& ar
 } // namespace
 
 void write_vti(const std::filesystem::path& path, const ScalarGrid& grid,
-               const std::string& array_name) {
-  write_grid(path, grid, array_name);
+               const std::string& array_name, int z_first) {
+  write_grid(path, grid, array_name, z_first);
 }
 
 void write_vti(const std::filesystem::path& path, const RgbGrid& grid,
-               const std::string& array_name) {
-  write_grid(path, grid, array_name);
+               const std::string& array_name, int z_first) {
+  write_grid(path, grid, array_name, z_first);
 }
 
-AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_name) {
+namespace {
+
+template <class Reader>
+AnyGrid read_image_data(const std::filesystem::path& path, const std::string& array_name) {
   require_regular_file(path, "VTK image data file (.vti)");
   vtk::ErrorCapture capture;
-  vtkNew<vtkXMLImageDataReader> reader;
+  vtkNew<Reader> reader;
   capture.watch(reader);
   capture.watch(reader->GetExecutive());
   if (reader->CanReadFile(path.c_str()) == 0) {
@@ -149,6 +153,14 @@ AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_nam
                                      << array->GetNumberOfComponents()
                                      << " components, expected 1 (scalar) or 3 (RGB)");
   }
+}
+
+} // namespace
+
+AnyGrid read_vti(const std::filesystem::path& path, const std::string& array_name) {
+  if (path.extension() == ".pvti")
+    return read_image_data<vtkXMLPImageDataReader>(path, array_name);
+  return read_image_data<vtkXMLImageDataReader>(path, array_name);
 }
 
 } // namespace texsim::vol

@@ -126,7 +126,7 @@ TEST(FluidFrames, VdbVelocityGridsGiveTheVtiVelocity) {
       make_grid_velocity(from_vti.velocity_grid(0), 0.0, from_vti.velocity_grid(1), 1.0);
   const auto vdb =
       make_grid_velocity(from_vdb.velocity_grid(0), 0.0, from_vdb.velocity_grid(1), 1.0);
-  for (const geom::Vec3 x : {geom::Vec3(0.31, -0.52, 0.17), geom::Vec3(-0.9, 0.05, 0.77)})
+  for (const geom::Vec3& x : {geom::Vec3(0.31, -0.52, 0.17), geom::Vec3(-0.9, 0.05, 0.77)})
     for (const double t : {0.0, 0.25, 1.0}) {
       const auto expected = vti->at(x, t);
       EXPECT_EQ(vdb->at(x, t), expected) << "at t = " << t;

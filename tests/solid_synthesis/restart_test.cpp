@@ -1,11 +1,14 @@
 // Through the binary, as a user runs it: config/solid_synthesis/smoke.yaml (16^3 marble exemplar
-// to 32^3, a checkpoint after every pyramid level) gives the same volume bytes at -n 1, 2 and 3;
-// a copy of the -n 2 run that lost the checkpoints after level 3 (a job killed mid-pyramid) and is
-// continued with --restart, at -n 2 and at -n 3, ends with the same bytes too; and the second run
+// to 32^3, a checkpoint after every pyramid level) gives the same voxels in its .vdb and in
+// its parallel .pvti volumes at -n 1, 2 and 3; a copy of the -n 2 run that lost the checkpoints
+// after level 3 (a job killed mid-pyramid) and is continued with --restart, at -n 2 (then with the
+// same bytes in every piece) and at -n 3, ends with the same volumes too; and the second run
 // reads its appearance space and similarity sets from the cache the first one wrote. The texsim
 // runs are child jobs (support/run_command.hpp); this program itself runs on one rank.
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
+#include "vol/vdb_io.hpp"
+#include "vol/vti_io.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -55,11 +58,25 @@ nlohmann::json read_summary(const fs::path& out) {
   return nlohmann::json::parse(in);
 }
 
-void expect_same_volumes(const fs::path& a, const fs::path& b) {
-  for (const char* file : {"exemplar_coordinates.vti", "solid_synthesis.vti"}) {
-    const std::string bytes = read_bytes(a / file);
-    EXPECT_FALSE(bytes.empty()) << (a / file);
-    EXPECT_TRUE(bytes == read_bytes(b / file)) << file << " differs between " << a << " and " << b;
+/// The .vdb (written by rank 0) and the parallel .pvti volumes (one piece per rank, so other
+/// files at another rank count) hold the same voxels; at the same rank count every piece and
+/// .pvti has the same bytes.
+void expect_same_volumes(const fs::path& a, const fs::path& b, bool same_ranks) {
+  // OpenVDB stamps every file with a fresh UUID: the .vdb is compared by its voxels.
+  EXPECT_TRUE(std::get<vol::RgbGrid>(vol::read_vdb(a / "solid_synthesis.vdb")) ==
+              std::get<vol::RgbGrid>(vol::read_vdb(b / "solid_synthesis.vdb")))
+      << "the .vdb differs: " << a << ", " << b;
+  for (const std::string volume : {"exemplar_coordinates", "solid_synthesis"}) {
+    const auto grid_a = std::get<vol::RgbGrid>(vol::read_vti(a / (volume + ".pvti")));
+    const auto grid_b = std::get<vol::RgbGrid>(vol::read_vti(b / (volume + ".pvti")));
+    EXPECT_EQ(grid_a.dims(), (vol::Dims{32, 32, 32}));
+    EXPECT_TRUE(grid_a == grid_b) << volume << " differs between " << a << " and " << b;
+    if (!same_ranks)
+      continue;
+    EXPECT_TRUE(read_bytes(a / (volume + ".pvti")) == read_bytes(b / (volume + ".pvti")));
+    for (const auto& piece : fs::directory_iterator(a / volume))
+      EXPECT_TRUE(read_bytes(piece.path()) == read_bytes(b / volume / piece.path().filename()))
+          << piece.path().filename() << " differs between " << a << " and " << b;
   }
 }
 
@@ -75,7 +92,7 @@ protected:
 fs::path SolidSynthesisRuns::dir_;
 
 TEST_F(SolidSynthesisRuns, NoTemporaryFileIsLeftInTheRunOrTheCache) {
-  // .vdb, .vti, slice PNGs, checkpoints, caches, summary.json: all renamed into place.
+  // .vdb, .pvti and pieces, slice PNGs, checkpoints, caches, summary.json: all renamed into place.
   EXPECT_TRUE(fs::exists(dir_ / "n2" / "solid_synthesis.vdb"));
   EXPECT_TRUE(test::temporary_files_under(dir_ / "n2").empty());
   EXPECT_TRUE(test::temporary_files_under(dir_ / "cache").empty());
@@ -86,7 +103,7 @@ TEST_F(SolidSynthesisRuns, SameBytesAtOneTwoAndThreeRanks) {
     const fs::path out = dir_ / with_ranks("n", ranks);
     const auto outcome = run_smoke(ranks, out, dir_ / with_ranks("cache_n", ranks));
     ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
-    expect_same_volumes(dir_ / "n2", out);
+    expect_same_volumes(dir_ / "n2", out, false);
   }
 }
 
@@ -96,8 +113,10 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
     fs::copy(dir_ / "n2", copy, fs::copy_options::recursive);
     for (int level = kLastKeptLevel + 1; level <= kFinestLevel; ++level)
       ASSERT_TRUE(fs::remove(checkpoint_path(copy, level)));
-    for (const char* file : {"summary.json", "solid_synthesis.vti", "exemplar_coordinates.vti"})
-      ASSERT_TRUE(fs::remove(copy / file));
+    for (const char* file :
+         {"summary.json", "solid_synthesis.vdb", "solid_synthesis.pvti",
+          "exemplar_coordinates.pvti", "solid_synthesis", "exemplar_coordinates"})
+      ASSERT_GT(fs::remove_all(copy / file), 0u) << file;
     const auto outcome = run_smoke(ranks, copy, dir_ / "cache", "--restart");
     ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
     EXPECT_NE(
@@ -106,7 +125,7 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
         << outcome.output;
     // Only the levels after the checkpoint were synthesized again.
     EXPECT_EQ(read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
-    expect_same_volumes(dir_ / "n2", copy);
+    expect_same_volumes(dir_ / "n2", copy, ranks == 2);
   }
 }
 
@@ -118,7 +137,7 @@ TEST_F(SolidSynthesisRuns, SecondRunReadsFeaturesAndSimilaritySetsFromTheCache) 
   for (const auto& [level, source] :
        read_summary(out)["metrics"]["similarity_sets"]["levels"].items())
     EXPECT_EQ(source, "cache") << "stack level " << level;
-  expect_same_volumes(dir_ / "n2", out);
+  expect_same_volumes(dir_ / "n2", out, true);
 }
 
 TEST_F(SolidSynthesisRuns, RestartWithAnotherExemplarSettingIsRefused) {

@@ -199,6 +199,10 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   report.metric("levels", levels);
 
   auto stage = ctx.timers.scope("output");
+  slab->exchange_halo(comm); // the pieces share each next slab's first plane
+  for (const auto& path :
+       write_parallel_result(comm, run.output_dir, *slab, settings_.dims, space.colours))
+    report.output(path.string());
   const SynthesisResult result = gather_result(comm, *slab, settings_.dims, space.colours);
   par::run_collectively(comm, [&] {
     if (!comm.is_root())

@@ -3,10 +3,11 @@
 #include "core/error.hpp"
 #include "par/gather_to_root.hpp"
 #include "vol/cross_section_writer.hpp"
+#include "vol/parallel_vti_writer.hpp"
 #include "vol/vdb_io.hpp"
-#include "vol/vti_io.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -61,26 +62,70 @@ std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir
                                                 const std::vector<int>& cross_sections) {
   std::vector<std::filesystem::path> written;
   const auto vdb = dir / "solid_synthesis.vdb";
-  const auto vti = dir / "solid_synthesis.vti";
   if (result.colours.channels() == 1) {
     vol::ScalarGrid density(result.colours.dims());
     std::copy(result.colours.data().begin(), result.colours.data().end(), density.data().begin());
     vol::write_vdb(vdb, density, "density");
-    vol::write_vti(vti, density, "density");
   } else {
-    const vol::RgbGrid colour = vol::to_rgb(result.colours);
-    vol::write_vdb(vdb, colour, "colour");
-    vol::write_vti(vti, colour, "colour");
+    vol::write_vdb(vdb, vol::to_rgb(result.colours), "colour");
   }
-  const auto coordinates = dir / "exemplar_coordinates.vti";
-  vol::write_vti(coordinates, vol::to_rgb(result.coordinates), "exemplar_coordinate");
-  written.insert(written.end(), {vdb, vti, coordinates});
+  written.push_back(vdb);
   for (const int p : cross_sections) {
     // One set per position: the combined image is named after the basename alone.
     const auto slices = vol::write_cross_sections(
         dir / "slices", "solid_synthesis_" + std::to_string(p), result.colours, {p, p, p});
     written.insert(written.end(), slices.begin(), slices.end());
   }
+  return written;
+}
+
+std::vector<std::filesystem::path> write_parallel_result(const par::Comm& comm,
+                                                         const std::filesystem::path& dir,
+                                                         const CoordinateSlab& slab,
+                                                         const std::array<int, 3>& dims,
+                                                         const vol::ChannelGrid& exemplar) {
+  // This rank's planes [z_first, z_last] of the cropped result: its slab and the next slab's
+  // first plane (from the halo); a replicated level is written by rank 0 alone.
+  const LevelLayout& layout = slab.layout();
+  int z_first = 0, z_last = -1;
+  if (!layout.replicated) {
+    z_first = layout.z_begin;
+    z_last = std::min(layout.z_end, dims[2] - 1);
+  } else if (comm.is_root()) {
+    z_last = dims[2] - 1;
+  }
+  std::optional<vol::RgbGrid> coordinates, colour;
+  std::optional<vol::ScalarGrid> density;
+  if (z_last >= z_first) {
+    const vol::Dims piece{dims[0], dims[1], z_last - z_first + 1};
+    coordinates.emplace(piece);
+    if (exemplar.channels() == 1)
+      density.emplace(piece);
+    else
+      colour.emplace(piece);
+    for (int k = 0; k < piece.nz; ++k)
+      for (int j = 0; j < piece.ny; ++j)
+        for (int i = 0; i < piece.nx; ++i) {
+          const Coord& c = slab.at(i, j, z_first + k);
+          coordinates->at(i, j, k) = {static_cast<float>(c.x), static_cast<float>(c.y),
+                                      static_cast<float>(c.z)};
+          const auto value = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
+          if (density)
+            density->at(i, j, k) = value[0];
+          else
+            colour->at(i, j, k) = {value[0], value[1], value[2]};
+        }
+  }
+  const auto pointer = [](const auto& grid) { return grid ? &*grid : nullptr; };
+  std::vector<std::filesystem::path> written;
+  written.push_back(exemplar.channels() == 1
+                        ? vol::write_parallel_vti(comm, dir, "solid_synthesis",
+                                                  {pointer(density), z_first}, dims, "density")
+                        : vol::write_parallel_vti(comm, dir, "solid_synthesis",
+                                                  {pointer(colour), z_first}, dims, "colour"));
+  written.push_back(vol::write_parallel_vti(comm, dir, "exemplar_coordinates",
+                                            {pointer(coordinates), z_first}, dims,
+                                            "exemplar_coordinate"));
   return written;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-/// The finished synthesis on rank 0: the exemplar-coordinate volume S cropped to the requested
-/// size, and the colours it selects from the exemplar; and the files a user opens from it.
+/// The finished synthesis: gathered on rank 0 (the exemplar-coordinate volume S cropped to the
+/// requested size, and the colours it selects from the exemplar) for the .vdb, the slices and the
+/// metrics, and written in parallel for ParaView.
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "vol/channel_grid.hpp"
 
@@ -20,12 +21,22 @@ struct SynthesisResult {
 SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
                               const std::array<int, 3>& dims, const vol::ChannelGrid& exemplar);
 
-/// Writes (call on rank 0 only): <dir>/solid_synthesis.vdb and .vti (a Vec3s/3-component "colour"
-/// array, or a float "density" for scalar exemplars), exemplar_coordinates.vti (S, to re-colour
-/// with another channel of the exemplar), and PNG cross-sections at X = Y = Z = each of
+/// Writes (call on rank 0 only): <dir>/solid_synthesis.vdb (a Vec3s grid "colour", or a float
+/// grid "density" for scalar exemplars) and PNG cross-sections at X = Y = Z = each of
 /// `cross_sections` in <dir>/slices. Returns the paths written.
 std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir,
                                                 const SynthesisResult& result,
                                                 const std::vector<int>& cross_sections);
+
+/// Writes the result for ParaView in parallel, every rank its own slab cropped to `dims` (plus
+/// the next slab's first plane, which VTK pieces share): <dir>/solid_synthesis.pvti (the colour or
+/// density) and <dir>/exemplar_coordinates.pvti (S, to re-colour with another channel of the
+/// exemplar), their pieces in folders of the same names. The slab's halo must be current.
+/// Collective; returns the .pvti paths.
+std::vector<std::filesystem::path> write_parallel_result(const par::Comm& comm,
+                                                         const std::filesystem::path& dir,
+                                                         const CoordinateSlab& slab,
+                                                         const std::array<int, 3>& dims,
+                                                         const vol::ChannelGrid& exemplar);
 
 } // namespace texsim::pipelines::solid_synthesis
