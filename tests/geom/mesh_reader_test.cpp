@@ -245,6 +245,14 @@ TEST(MeshReader, BadInputThrowsInputErrorNamingTheFile) {
   EXPECT_EQ(message_of(dir / "missing.ply"),
             (dir / "missing.ply").string() +
                 ": no such file; expected a mesh file (.obj .ply .stl .vtk .vtp .vtu .off)");
+  // A fuzz finding: a blank line inside the header crashed VTK's PLY reader.
+  std::ofstream(dir / "blank.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                      "property float y\nproperty float z\nelement face 1\n\n"
+                                      "property list uchar int vertex_indices\nend_header\n"
+                                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_EQ(message_of(dir / "blank.ply"),
+            (dir / "blank.ply").string() +
+                ": header line 8 is blank; expected a keyword on every header line");
   std::ofstream(dir / "mesh.xyz") << "0 0 0\n";
   EXPECT_EQ(
       message_of(dir / "mesh.xyz"),
