@@ -189,9 +189,4 @@ FeatureKdTree::search(const float* query, FeatureVisitor& visitor) const {
   }
 }
 
-std::size_t FeatureKdTree::memory_bytes() const {
-  return lane_blocks_.size() * sizeof(float) + voxels_.size() * sizeof(std::int32_t) +
-         nodes_.size() * sizeof(Node) + boxes_.size() * sizeof(float);
-}
-
 } // namespace texsim::pipelines::solid_synthesis

@@ -48,10 +48,6 @@ public:
   /// The voxels in leaf order: queries taken in this order reuse the same nodes from cache.
   const std::vector<std::int32_t>& leaf_order() const { return voxels_; }
 
-  int channels() const { return channels_; }
-  /// Bytes held: lane blocks, voxel ids, nodes and boxes.
-  std::size_t memory_bytes() const;
-
 private:
   struct Node {
     std::int32_t first_child = -1; ///< the second child follows it; -1: a leaf

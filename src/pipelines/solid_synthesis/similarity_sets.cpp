@@ -69,11 +69,13 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
   std::unique_ptr<NearestOutsideWindows> scanner;
   if (k > 1)
     scanner = std::make_unique<NearestOutsideWindows>(features, windows, k - 1, options.search);
-  std::vector<std::int32_t> order(voxels);
-  if (scanner)
+  std::vector<std::int32_t> order;
+  if (scanner) {
     order = scanner->query_order();
-  else
+  } else {
+    order.resize(voxels);
     std::iota(order.begin(), order.end(), 0);
+  }
   const auto range_start = [&](int rank) {
     return static_cast<std::int32_t>(static_cast<std::int64_t>(n) * rank / comm.size);
   };
