@@ -481,10 +481,14 @@ std::vector<AtlasTexel> chart_texels(const TextureAtlas& atlas,
         std::min(y1, static_cast<int>(std::floor(resolution - 0.5 - near.min().y() + reach)));
     for (int y = ty0; y <= ty1; ++y) {
       for (int x = tx0; x <= tx1; ++x) {
+        Best& slot = best[static_cast<std::size_t>(y - y0) * width + (x - x0)];
+        // Inside an earlier triangle: no later one is nearer, and the texel is a member.
+        if (slot.distance == 0.0) {
+          continue;
+        }
         const Vec2 centre(x + 0.5, resolution - y - 0.5);
         const auto [weights, distance] =
             nearest_in_triangle(centre, corner[0], corner[1], corner[2]);
-        Best& slot = best[static_cast<std::size_t>(y - y0) * width + (x - x0)];
         // Triangles come in increasing id order: a tie keeps the lower id.
         if (distance < slot.distance) {
           slot.distance = distance;
@@ -545,16 +549,28 @@ std::vector<AtlasTexel> AtlasTexelIndex::texels_in(const TexelRect& rect) const 
   for (std::int64_t i = 0; i < count; ++i)
     per_chart[std::size_t(i)] =
         chart_texels(atlas_, charts_[std::size_t(touching[std::size_t(i)])], rect);
+  // Row-major order by placing each texel at its place in the rectangle (no sort: the charts'
+  // texels are clipped to it), which also finds a texel claimed twice.
+  const auto width = std::size_t(std::max(0, rect.x1 - rect.x0));
+  const auto height = std::size_t(std::max(0, rect.y1 - rect.y0));
+  std::vector<std::pair<std::int32_t, std::int32_t>> at(width * height, {-1, -1});
+  std::size_t count_found = 0;
+  for (std::size_t c = 0; c < per_chart.size(); ++c) {
+    for (std::size_t i = 0; i < per_chart[c].size(); ++i) {
+      const AtlasTexel& texel = per_chart[c][i];
+      auto& place = at[std::size_t(texel.y - rect.y0) * width + std::size_t(texel.x - rect.x0)];
+      TEXSIM_VERIFY(place.first < 0, "atlas_texels: texel (" << texel.x << ", " << texel.y
+                                                             << ") claimed by two charts");
+      place = {std::int32_t(c), std::int32_t(i)};
+      ++count_found;
+    }
+  }
   std::vector<AtlasTexel> texels;
-  for (auto& chart : per_chart)
-    texels.insert(texels.end(), chart.begin(), chart.end());
-  std::sort(texels.begin(), texels.end(), [](const AtlasTexel& a, const AtlasTexel& b) {
-    return std::tie(a.y, a.x) < std::tie(b.y, b.x);
-  });
-  for (std::size_t i = 1; i < texels.size(); ++i) {
-    TEXSIM_VERIFY(texels[i].x != texels[i - 1].x || texels[i].y != texels[i - 1].y,
-                  "atlas_texels: texel (" << texels[i].x << ", " << texels[i].y
-                                          << ") claimed by two charts");
+  texels.reserve(count_found);
+  for (const auto& [chart, i] : at) {
+    if (chart >= 0) {
+      texels.push_back(per_chart[std::size_t(chart)][std::size_t(i)]);
+    }
   }
   return texels;
 }

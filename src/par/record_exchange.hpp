@@ -2,7 +2,7 @@
 /// Sending plain records to chosen ranks: every rank fills one outgoing list per destination and
 /// receives what all ranks addressed to it, concatenated in source-rank order. The counts go first
 /// (MPI_Alltoall), then the records as bytes (MPI_Alltoallv): the sparse, owner-computes exchange
-/// behind halos and reductions to owners.
+/// behind halos and reductions to owners. allgather_records is the every-rank-to-every-rank case.
 #include "core/error.hpp"
 #include "par/comm.hpp"
 
@@ -45,6 +45,28 @@ std::vector<Record> exchange_records(const Comm& comm,
   MPI_Alltoallv(send_bytes.data(), send_counts.data(), send_offsets.data(), MPI_BYTE,
                 received.data(), receive_counts.data(), receive_offsets.data(), MPI_BYTE, comm.raw);
   return received;
+}
+
+/// Every rank's `local` records on every rank, concatenated in rank order. Collective.
+template <typename Record>
+std::vector<Record> allgather_records(const Comm& comm, const std::vector<Record>& local) {
+  static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
+  TEXSIM_VERIFY(local.size() * sizeof(Record) < std::size_t(INT32_MAX),
+                "allgather_records: more than 2 GiB from one rank");
+  const int bytes = int(local.size() * sizeof(Record));
+  std::vector<int> counts(comm.size), offsets(comm.size);
+  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
+  std::size_t total = 0;
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[r] = int(total);
+    total += std::size_t(counts[r]);
+  }
+  TEXSIM_VERIFY(total < std::size_t(INT32_MAX),
+                "allgather_records: more than 2 GiB to receive on one rank");
+  std::vector<Record> all(total / sizeof(Record));
+  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                 comm.raw);
+  return all;
 }
 
 } // namespace texsim::par

@@ -1,7 +1,7 @@
 // AtlasCompositor beyond the plain composite: gutter texels (sampling their chart's nearest point,
 // up to 1.21 x gutter texels away along a slanted border) against a brute-force loop in 3D; the
 // queries (coverage, winning_patches, first_uncovered, mark_unreachable) against the gathered
-// atlas; patch_sample, which patch creation uses instead of compositing, against composite() of
+// atlas; covered_texels, which patch creation uses instead of compositing, against composite() of
 // the lone patch on every used texel; the same bytes as a one-rank compositor; on a sphere with
 // LSCM charts, every texel's patch uv within a texel of the patch's uv at the texel's surface
 // point.
@@ -300,7 +300,7 @@ std::vector<Vec3> sphere_centres(int count) {
   return centres;
 }
 
-TEST(AtlasCompositorQueries, PatchSampleIsWhatCompositingTheLonePatchGives) {
+TEST(AtlasCompositorQueries, CoveredTexelsAreWhatCompositingTheLonePatchGives) {
   const auto comm = par::world();
   const ChartedSphere sphere(128);
   const FrameSurface plane(geom::plane(Vec3(1, 1, 0), 20));
@@ -322,20 +322,14 @@ TEST(AtlasCompositorQueries, PatchSampleIsWhatCompositingTheLonePatchGives) {
       const auto image = compositor.gather(0);
       if (comm.rank != 0)
         continue;
-      const auto drawn = compositor.image_of(patch);
-      std::size_t covered = 0;
-      for (const auto& texel : texels) {
-        const auto& got = image[std::size_t(texel.y * atlas.resolution + texel.x)];
-        const auto sample = compositor.patch_sample(drawn, texel);
-        ASSERT_EQ(sample.has_value(), got.patch == patch.id)
-            << "patch " << patch.id << ", texel " << texel.x << ", " << texel.y;
-        if (sample) {
-          ++covered;
-          EXPECT_EQ(sample->u, got.u);
-          EXPECT_EQ(sample->v, got.v);
-        }
-      }
-      EXPECT_GT(covered, 0u) << "patch " << patch.id;
+      const UncoveredTexelIndex index(texels);
+      std::vector<std::int32_t> composited;
+      for (std::size_t i = 0; i < texels.size(); ++i)
+        if (image[std::size_t(texels[i].y * atlas.resolution + texels[i].x)].patch == patch.id)
+          composited.push_back(std::int32_t(i));
+      EXPECT_EQ(compositor.covered_texels(compositor.image_of(patch), index), composited)
+          << "patch " << patch.id;
+      EXPECT_FALSE(composited.empty()) << "patch " << patch.id;
     }
   }
 }

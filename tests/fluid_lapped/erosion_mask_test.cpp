@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace texsim::pipelines::fluid_lapped {
 namespace {
@@ -78,6 +80,32 @@ TEST(ErosionMask, FullWeightKeepsTheCentreZeroWeightErodesAllAndErosionFallsWith
           << "eroded again at w = " << w << ", uv " << uv.transpose();
       was_eroded = eroded;
     }
+  }
+}
+
+TEST(ErosionMask, TableLookupEqualsTheFormulaEvaluatedPerSample) {
+  // The section 5.2 formula straight from its definition, on a 7 x 5 feature map, for uv inside
+  // the unit square and in its repeats, against eroded()'s precomputed table.
+  const int width = 7, height = 5;
+  const double epsilon = 0.1;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), spread(-2.0, 3.0);
+  std::vector<float> feature(std::size_t(width * height));
+  for (auto& f : feature)
+    f = float(unit(random));
+  const ErosionMask mask(feature, width, height, epsilon);
+  const auto falloff = [](const Vector2d& c) {
+    return std::max(0.0, 1.0 - (Vector2d(0.5, 0.5) - c).norm() / 0.5);
+  };
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vector2d uv(spread(random), spread(random));
+    const double w = unit(random);
+    const auto texel = mask.exemplar_texel(uv);
+    const double f = feature[std::size_t(texel[1] * width + texel[0])];
+    const Vector2d centre((std::floor(uv.x() * width) + 0.5) / width,
+                          (std::floor(uv.y() * height) + 0.5) / height);
+    const bool expected = std::sqrt(f + falloff(centre)) / mask.normaliser() - epsilon < 1.0 - w;
+    ASSERT_EQ(mask.eroded(uv, w), expected) << "uv " << uv.transpose() << ", w " << w;
   }
 }
 

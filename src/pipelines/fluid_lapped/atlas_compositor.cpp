@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 namespace texsim::pipelines::fluid_lapped {
@@ -302,18 +303,22 @@ PatchImage AtlasCompositor::image_of(const Patch& patch) const {
   return image;
 }
 
-std::optional<TexelSample> AtlasCompositor::patch_sample(const PatchImage& image,
-                                                         const UncoveredTexel& texel) const {
-  for (const auto& m : image.triangles) {
-    if (m.chart != texel.chart)
-      continue;
-    const auto box = sampling_box(m, atlas_.gutter);
-    if (texel.x < box.x0 || texel.x >= box.x1 || texel.y < box.y0 || texel.y >= box.y1)
-      continue;
-    if (const auto sample = sample_at(m, texel.image, erosion_))
-      return sample;
-  }
-  return std::nullopt;
+std::vector<std::int32_t> AtlasCompositor::covered_texels(const PatchImage& image,
+                                                          const UncoveredTexelIndex& index,
+                                                          std::int32_t from) const {
+  std::vector<char> hit(index.texels().size(), 0);
+  for (const auto& m : image.triangles)
+    index.for_each_inside(sampling_box(m, atlas_.gutter), [&](std::int32_t i) {
+      const auto& texel = index.texels()[std::size_t(i)];
+      if (i >= from && !hit[std::size_t(i)] && texel.chart == m.chart &&
+          sample_at(m, texel.image, erosion_))
+        hit[std::size_t(i)] = 1;
+    });
+  std::vector<std::int32_t> covered;
+  for (std::size_t i = std::size_t(from); i < hit.size(); ++i)
+    if (hit[i])
+      covered.push_back(std::int32_t(i));
+  return covered;
 }
 
 std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_count) const {
@@ -339,14 +344,7 @@ std::vector<UncoveredTexel> AtlasCompositor::first_uncovered(std::size_t max_cou
   std::sort(mine.begin(), mine.end(), earlier);
   if (mine.size() > max_count)
     mine.resize(max_count);
-  const int bytes = int(mine.size() * sizeof(Found));
-  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
-  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
-  for (int r = 1; r < comm_.size; ++r)
-    offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-  std::vector<Found> all(std::size_t(offsets.back() + counts.back()) / sizeof(Found));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
-                 comm_.raw);
+  auto all = par::allgather_records(comm_, mine);
   std::sort(all.begin(), all.end(), earlier);
   if (all.size() > max_count)
     all.resize(max_count);
@@ -398,14 +396,7 @@ std::vector<std::int64_t> AtlasCompositor::winning_patches() const {
         mine.push_back(sample.patch);
   std::sort(mine.begin(), mine.end());
   mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
-  int count = int(mine.size());
-  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.raw);
-  for (int r = 1; r < comm_.size; ++r)
-    offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-  std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
-                 MPI_INT64_T, comm_.raw);
+  auto all = par::allgather_records(comm_, mine);
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   return all;

@@ -15,10 +15,10 @@
 #include "par/comm.hpp"
 #include "pipelines/fluid_lapped/erosion_mask.hpp"
 #include "pipelines/fluid_lapped/patch.hpp"
+#include "pipelines/fluid_lapped/uncovered_texel_index.hpp"
 
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -51,15 +51,6 @@ struct PatchImage {
   std::vector<MappedTriangle> triangles;
 };
 
-/// A used texel that no patch covers, its chart, the surface point it shows, and that point's
-/// image in the atlas (the texel centre, or for a gutter texel the nearest point of its chart).
-struct UncoveredTexel {
-  int x = 0, y = 0;
-  std::int32_t chart = -1;
-  geom::SurfacePoint point;
-  std::array<float, 2> image{};
-};
-
 /// Texel counts over the whole atlas.
 struct AtlasCoverage {
   std::int64_t used = 0, covered = 0, unreachable = 0;
@@ -85,12 +76,13 @@ public:
   /// Marks an uncovered texel as given up. Call on every rank with the same texel.
   void mark_unreachable(int x, int y);
 
-  /// What a patch (drawn by image_of) would give `texel` if it lay alone on the surface: its
-  /// lowest-index triangle
-  /// whose atlas image in the texel's chart holds the texel centre and whose sample there is not
-  /// eroded; nullopt when there is none. Not collective; any rank.
-  std::optional<TexelSample> patch_sample(const PatchImage& image,
-                                          const UncoveredTexel& texel) const;
+  /// The texels of `index` from position `from` on that a patch drawn by image_of would cover if
+  /// it lay alone on the surface (composite() of it alone would give them the patch): those in a
+  /// chart the image reaches with a triangle holding the texel's sample point where the patch is
+  /// not eroded. Positions in index.texels(), increasing. Not collective; any rank.
+  std::vector<std::int32_t> covered_texels(const PatchImage& image,
+                                           const UncoveredTexelIndex& index,
+                                           std::int32_t from = 0) const;
 
   /// `patch` drawn into the atlas as composite() draws it. Not collective.
   PatchImage image_of(const Patch& patch) const;

@@ -18,6 +18,17 @@ ErosionMask::ErosionMask(std::vector<float> feature_map, int width, int height, 
       const double f = feature_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
       normaliser_ = std::max(normaliser_, std::sqrt(f + centre_falloff(centre)));
     }
+  shape_inside_.resize(feature_.size());
+  shape_outside_.resize(feature_.size());
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const auto i = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+      const double f = feature_[i];
+      // The centre as eroded() had it from uv: cell (x, row from the bottom) of the unit square.
+      const Eigen::Vector2d centre((x + 0.5) / width_, (height_ - 1 - y + 0.5) / height_);
+      shape_inside_[i] = std::sqrt(f + centre_falloff(centre)) / normaliser_ - epsilon_;
+      shape_outside_[i] = std::sqrt(f + 0.0) / normaliser_ - epsilon_;
+    }
 }
 
 std::array<int, 2> ErosionMask::exemplar_texel(const Eigen::Vector2d& uv) const {
@@ -31,16 +42,18 @@ double ErosionMask::centre_falloff(const Eigen::Vector2d& centre) {
   return std::max(0.0, 1.0 - (Eigen::Vector2d(0.5, 0.5) - centre).norm() / 0.5);
 }
 
-Eigen::Vector2d ErosionMask::texel_centre(const Eigen::Vector2d& uv) const {
-  return {(std::floor(uv.x() * width_) + 0.5) / width_,
-          (std::floor(uv.y() * height_) + 0.5) / height_};
-}
-
 bool ErosionMask::eroded(const Eigen::Vector2d& uv, double weight) const {
+  // The texel test runs for every atlas texel a patch triangle reaches: a table lookup, with the
+  // modulo of exemplar_texel only for the repeats outside [0, 1]^2.
+  const double column = std::floor(uv.x() * width_), row_from_bottom = std::floor(uv.y() * height_);
+  if (column >= 0 && column < width_ && row_from_bottom >= 0 && row_from_bottom < height_) {
+    const auto i =
+        std::size_t(height_ - 1 - int(row_from_bottom)) * std::size_t(width_) + std::size_t(column);
+    return shape_inside_[i] < 1.0 - weight;
+  }
   const auto texel = exemplar_texel(uv);
-  const double f = feature_[std::size_t(texel[1]) * std::size_t(width_) + std::size_t(texel[0])];
-  const double shape = std::sqrt(f + centre_falloff(texel_centre(uv))) / normaliser_;
-  return shape - epsilon_ < 1.0 - weight;
+  return shape_outside_[std::size_t(texel[1]) * std::size_t(width_) + std::size_t(texel[0])] <
+         1.0 - weight;
 }
 
 } // namespace texsim::pipelines::fluid_lapped

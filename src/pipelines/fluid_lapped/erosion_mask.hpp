@@ -30,12 +30,15 @@ public:
 private:
   /// D at the centre of the texel cell holding uv, unwrapped.
   static double centre_falloff(const Eigen::Vector2d& centre);
-  Eigen::Vector2d texel_centre(const Eigen::Vector2d& uv) const;
 
   std::vector<float> feature_;
   int width_, height_;
   double epsilon_;
   double normaliser_ = 0;
+  /// sqrt(F_m + D) / normaliser - epsilon per exemplar texel (row 0 at the top), the left side of
+  /// the test: with D at the texel's centre for uv in [0, 1]^2, and with D = 0 for the repeats
+  /// outside it (their unwrapped centres lie outside the disk). Computed once, as eroded() would.
+  std::vector<double> shape_inside_, shape_outside_;
 };
 
 } // namespace texsim::pipelines::fluid_lapped

@@ -66,23 +66,6 @@ std::vector<Patch> unpack(const std::vector<VertexRecord>& vertices,
   return patches;
 }
 
-/// Concatenation of every rank's `local` records on every rank, in rank order.
-template <typename Record>
-std::vector<Record> allgather_records(const par::Comm& comm, const std::vector<Record>& local) {
-  const int bytes = int(local.size() * sizeof(Record));
-  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
-  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
-  std::size_t total = 0;
-  for (int r = 0; r < comm.size; ++r) {
-    offsets[std::size_t(r)] = int(total);
-    total += std::size_t(counts[std::size_t(r)]);
-  }
-  std::vector<Record> all(total / sizeof(Record));
-  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
-                 comm.raw);
-  return all;
-}
-
 } // namespace
 
 std::vector<Patch> exchange_patches(const par::Comm& comm, std::span<const Patch> patches,
@@ -92,14 +75,6 @@ std::vector<Patch> exchange_patches(const par::Comm& comm, std::span<const Patch
   for (std::size_t i = 0; i < patches.size(); ++i)
     pack(patches[i], vertices[std::size_t(destination[i])], triangles[std::size_t(destination[i])]);
   return unpack(par::exchange_records(comm, vertices), par::exchange_records(comm, triangles));
-}
-
-std::vector<Patch> allgather_patches(const par::Comm& comm, std::span<const Patch> patches) {
-  std::vector<VertexRecord> vertices;
-  std::vector<TriangleRecord> triangles;
-  for (const auto& patch : patches)
-    pack(patch, vertices, triangles);
-  return unpack(allgather_records(comm, vertices), allgather_records(comm, triangles));
 }
 
 std::vector<int> morton_destinations(const par::Comm& comm, std::span<const Patch> patches) {
@@ -115,7 +90,7 @@ std::vector<int> morton_destinations(const par::Comm& comm, std::span<const Patc
     sum /= double(std::max<std::size_t>(patch.positions.size(), 1));
     local.push_back({patch.id, {sum.x(), sum.y(), sum.z()}});
   }
-  auto all = allgather_records(comm, local);
+  auto all = par::allgather_records(comm, local);
   std::sort(all.begin(), all.end(), [](const Centre& a, const Centre& b) { return a.id < b.id; });
   std::vector<std::array<double, 3>> points;
   for (const auto& c : all)
@@ -138,7 +113,7 @@ std::vector<int> id_order_destinations(const par::Comm& comm, std::span<const Pa
   std::vector<Size> local;
   for (const auto& patch : patches)
     local.push_back({patch.id, std::int64_t(patch.positions.size())});
-  auto all = allgather_records(comm, local);
+  auto all = par::allgather_records(comm, local);
   std::sort(all.begin(), all.end(), [](const Size& a, const Size& b) { return a.id < b.id; });
   std::int64_t total = 0;
   for (const auto& s : all)

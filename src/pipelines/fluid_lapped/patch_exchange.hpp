@@ -15,9 +15,6 @@ namespace texsim::pipelines::fluid_lapped {
 std::vector<Patch> exchange_patches(const par::Comm& comm, std::span<const Patch> patches,
                                     std::span<const int> destination);
 
-/// Every rank's patches on every rank, sorted by id. Collective.
-std::vector<Patch> allgather_patches(const par::Comm& comm, std::span<const Patch> patches);
-
 /// The rank of every patch when all patches are split by a Morton curve over their centres
 /// (the mean of their vertex positions): each rank gets a compact region of the surface, and the
 /// split depends on the patches alone, not on where they were. Returns one rank per local patch.

@@ -1,27 +1,27 @@
 #include "pipelines/fluid_lapped/patch_population.hpp"
 
 #include "par/collective.hpp"
+#include "par/record_exchange.hpp"
 #include "pipelines/fluid_lapped/patch_builder.hpp"
 #include "pipelines/fluid_lapped/patch_distortion.hpp"
-#include "pipelines/fluid_lapped/patch_exchange.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
+#include <tuple>
 
 namespace texsim::pipelines::fluid_lapped {
 namespace {
 
-/// A patch accepted in this round, drawn into the atlas once for the many texels it is asked
-/// about.
-struct Accepted {
-  const Patch* patch;
-  PatchImage image;
-};
-
 /// Uncovered texels fetched at once: the round walks them in order and asks for more only when
 /// they are used up.
 constexpr std::size_t kTexelsPerRound = 4096;
+
+/// That candidate `patch` covers texel `texel` of the round (a position in its texel list).
+struct Cover {
+  std::int64_t patch;
+  std::int32_t texel;
+};
 
 } // namespace
 
@@ -34,59 +34,68 @@ PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame
     if (uncovered.empty())
       break;
     ++report.rounds;
-    std::vector<Patch> candidates; // every rank's, in texel order: kept until composited
-    std::vector<Accepted> accepted;
-    const auto covered = [&](const UncoveredTexel& texel) {
-      return std::any_of(accepted.begin(), accepted.end(), [&](const Accepted& a) {
-        return compositor.patch_sample(a.image, texel).has_value();
-      });
-    };
-    std::vector<std::vector<Patch>> batches;
+    const UncoveredTexelIndex index(uncovered);
+    std::vector<char> covered(uncovered.size(), 0); // by a patch accepted in this round
+    std::vector<Patch> accepted;                    // this rank's
     std::size_t next = 0;
     while (next < uncovered.size()) {
       // The next texels no accepted patch covers: the paper's "first uncovered texel", a batch
-      // at a time, each built by rank i mod size.
-      std::vector<const UncoveredTexel*> picks;
+      // at a time, candidate i built by rank i mod size, which also finds the round's texels
+      // the candidate covers. Only those lists travel, so acceptance costs every rank little.
+      std::vector<std::int32_t> picks;
       while (next < uncovered.size() && picks.size() < std::size_t(settings.batch)) {
-        const auto& texel = uncovered[next++];
-        if (!covered(texel))
-          picks.push_back(&texel);
+        if (!covered[next])
+          picks.push_back(std::int32_t(next));
+        ++next;
       }
       if (picks.empty())
         break;
+      const auto first_id = state.next_id;
+      state.next_id += std::int64_t(picks.size());
       std::vector<Patch> built;
+      std::vector<Cover> covers;
       par::run_collectively(comm, [&] {
         for (std::size_t i = std::size_t(comm.rank); i < picks.size();
              i += std::size_t(comm.size)) {
-          auto patch = build_patch(frame, picks[i]->point, settings.radius,
-                                   state.next_id + std::int64_t(i), state.frame + 1, settings.seed);
+          auto patch = build_patch(frame, uncovered[std::size_t(picks[i])].point, settings.radius,
+                                   first_id + std::int64_t(i), state.frame + 1, settings.seed);
           update_weights(patch, settings.radius, settings.delta_max);
+          // Texels before its own matter no more: they come before every later pick.
+          for (const auto texel :
+               compositor.covered_texels(compositor.image_of(patch), index, picks[i]))
+            covers.push_back({patch.id, texel});
           built.push_back(std::move(patch));
         }
       });
-      batches.push_back(allgather_patches(comm, built)); // sorted by id = texel order
-      const auto first_id = state.next_id;
-      state.next_id += std::int64_t(picks.size());
+      auto all_covers = par::allgather_records(comm, covers);
+      std::sort(all_covers.begin(), all_covers.end(), [](const Cover& a, const Cover& b) {
+        return std::tie(a.patch, a.texel) < std::tie(b.patch, b.texel);
+      });
       // Accept in texel order: a candidate whose texel an earlier one covers is dropped.
-      for (const auto& candidate : batches.back()) {
-        const auto& texel = *picks[std::size_t(candidate.id - first_id)];
-        if (covered(texel)) {
+      auto from = all_covers.begin();
+      for (std::size_t i = 0; i < picks.size(); ++i) {
+        const auto id = first_id + std::int64_t(i);
+        const auto to =
+            std::find_if(from, all_covers.end(), [&](const Cover& c) { return c.patch != id; });
+        const auto texel = picks[i];
+        if (covered[std::size_t(texel)]) {
           ++report.rejected;
-        } else if (auto image = compositor.image_of(candidate);
-                   !compositor.patch_sample(image, texel)) {
-          compositor.mark_unreachable(texel.x, texel.y);
+        } else if (std::none_of(from, to, [&](const Cover& c) { return c.texel == texel; })) {
+          const auto& missed = uncovered[std::size_t(texel)];
+          compositor.mark_unreachable(missed.x, missed.y);
           ++report.rejected;
         } else {
-          accepted.push_back({&candidate, std::move(image)});
+          for (auto c = from; c != to; ++c)
+            covered[std::size_t(c->texel)] = 1;
+          ++report.created;
+          if (i % std::size_t(comm.size) == std::size_t(comm.rank))
+            accepted.push_back(std::move(built[i / std::size_t(comm.size)]));
         }
+        from = to;
       }
     }
-    report.created += std::int64_t(accepted.size());
-    std::vector<Patch> mine;
-    for (std::size_t j = std::size_t(comm.rank); j < accepted.size(); j += std::size_t(comm.size))
-      mine.push_back(*accepted[j].patch);
-    compositor.composite(mine);
-    for (auto& patch : mine)
+    compositor.composite(accepted);
+    for (auto& patch : accepted)
       state.patches.push_back(std::move(patch));
   }
   const auto winners = compositor.winning_patches();

@@ -32,10 +32,12 @@ struct PopulationReport {
 /// patches until every used texel is covered or unreachable, and drops the patches that won no
 /// texel. The paper's order exactly: a round walks the first uncovered texels in atlas order,
 /// skips those an accepted new patch covers, builds candidates for the next `batch` of the rest
-/// (candidate i on rank i mod size, id next_id + i), and accepts them in texel order, dropping a
-/// candidate whose texel an earlier one covers; ids of dropped candidates are skipped, so ids
-/// never depend on the rank count. A texel whose own new patch does not cover it (its centre
-/// triangle rejected) is marked unreachable instead of looping. Collective.
+/// (candidate i on rank i mod size, id next_id + i, which lists the round's texels it covers:
+/// only those lists travel, and an accepted patch stays on the rank that built it), and accepts
+/// them in texel order, dropping a candidate whose texel an earlier one covers; ids of dropped
+/// candidates are skipped, so ids never depend on the rank count. A texel whose own new patch
+/// does not cover it (its centre triangle rejected) is marked unreachable instead of looping.
+/// Collective.
 PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame,
                                 AtlasCompositor& compositor, PatchState& state,
                                 const PopulationSettings& settings);
