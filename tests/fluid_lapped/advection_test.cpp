@@ -21,7 +21,7 @@ using geom::Vec3;
 
 Patch patch_at(const FrameSurface& frame, const Vec3& at, double radius) {
   const auto closest = frame.tree.closest_point(at);
-  auto patch = build_patch(frame, {closest.point, closest.triangle}, radius, 0, 0, 1);
+  auto patch = build_patch(frame, {closest.point, closest.triangle}, radius, 0, 0, 1, 0);
   update_weights(patch, radius);
   return patch;
 }

@@ -82,7 +82,8 @@ std::vector<Patch> patches_at(const FrameSurface& frame, const std::vector<Vec3>
   std::vector<Patch> patches;
   for (std::size_t id = 0; id < centres.size(); ++id) {
     const auto c = frame.tree.closest_point(centres[id]);
-    auto patch = build_patch(frame, {c.point, c.triangle}, radius, std::int64_t(id), 0, 5);
+    auto patch = build_patch(frame, {c.point, c.triangle}, radius, std::int64_t(id), 0, 5,
+                             std::uint64_t(id));
     if (bend) {
       for (auto& p : patch.positions)
         p.x() += 0.02 * std::sin(7 * p.y() + double(id));

@@ -39,7 +39,7 @@ std::vector<Patch> plane_patches(const FrameSurface& frame) {
                           {0.7, 0.7, 0}, {0.2, 0.8, 0},   {0.5, 0.5, 0}};
   for (std::int64_t id = 0; id < 6; ++id) {
     const auto c = frame.tree.closest_point(centres[id]);
-    auto patch = build_patch(frame, {c.point, c.triangle}, kRadius, id, 0, 11);
+    auto patch = build_patch(frame, {c.point, c.triangle}, kRadius, id, 0, 11, std::uint64_t(id));
     // Distort each patch a little so weights (and erosion) vary over it.
     for (auto& p : patch.positions)
       p.x() += 0.02 * std::sin(7 * p.y() + double(id));
@@ -169,7 +169,7 @@ TEST(AtlasCompositor, APatchAcrossAChartSeamIsDrawnIntoBothCharts) {
         (frame.mesh.positions[std::size_t(tri[0])] + frame.mesh.positions[std::size_t(tri[1])] +
          frame.mesh.positions[std::size_t(tri[2])]) /
         3.0;
-    auto patch = build_patch(frame, {centre, t}, 0.3, t, 0, 3);
+    auto patch = build_patch(frame, {centre, t}, 0.3, t, 0, 3, std::uint64_t(t));
     std::set<std::int32_t> charts;
     for (const auto s : patch.surface_triangle)
       charts.insert(atlas.chart_of_triangle[std::size_t(s)]);

@@ -109,7 +109,7 @@ TEST(PatchBuilder, FlatPatchIsAnIsometryCentredOnP) {
   const double r = 0.3;
   const geom::SurfacePoint p{Vec3(1.013, 0.977, 0),
                              frame.tree.closest_point(Vec3(1.013, 0.977, 0)).triangle};
-  auto patch = build_patch(frame, p, r, 7, 0, 1);
+  auto patch = build_patch(frame, p, r, 7, 0, 1, 7);
   update_weights(patch, r);
   ASSERT_GT(patch.triangles.size(), 20u);
   std::vector<std::int32_t> triangles(patch.triangles.size());
@@ -131,9 +131,9 @@ TEST(PatchBuilder, FlatPatchIsAnIsometryCentredOnP) {
   // delta_t = 1: every interior vertex has weight 1.
   EXPECT_GT(*std::max_element(patch.weights.begin(), patch.weights.end()), 1.0 - 1e-9);
   // The same bytes twice; another id turns the uv.
-  const auto again = build_patch(frame, p, r, 7, 0, 1);
+  const auto again = build_patch(frame, p, r, 7, 0, 1, 7);
   EXPECT_EQ(again.rest_uv, patch.rest_uv);
-  const auto other = build_patch(frame, p, r, 8, 0, 1);
+  const auto other = build_patch(frame, p, r, 8, 0, 1, 8);
   EXPECT_NE(other.rest_uv, patch.rest_uv);
 }
 
@@ -149,7 +149,7 @@ TEST(PatchBuilder, ThinSlabKeepsTheFarSheetOut) {
     slab.triangles.push_back({t[0] + bottom_count, t[2] + bottom_count, t[1] + bottom_count});
   const FrameSurface frame(slab);
   const Vec3 at(1.02, 0.98, 0);
-  const auto patch = build_patch(frame, {at, frame.tree.closest_point(at).triangle}, r, 0, 0, 1);
+  const auto patch = build_patch(frame, {at, frame.tree.closest_point(at).triangle}, r, 0, 0, 1, 0);
   for (const auto& p : patch.positions)
     EXPECT_EQ(p.z(), 0.0);
 }
@@ -158,7 +158,7 @@ TEST(PatchBuilder, SpherePatchIsADisk) {
   const FrameSurface frame(geom::icosphere(4));
   for (std::int64_t id = 0; id < 5; ++id) {
     const auto p = geom::random_surface_points(frame.mesh, id, 1, 9).front();
-    const auto patch = build_patch(frame, p, 0.4, id, 0, 9);
+    const auto patch = build_patch(frame, p, 0.4, id, 0, 9, std::uint64_t(id));
     geom::TriangleMesh mesh{patch.positions, patch.triangles};
     std::vector<std::int32_t> all(patch.triangles.size());
     std::iota(all.begin(), all.end(), 0);

@@ -120,7 +120,7 @@ void seed_patches(const par::Comm& comm, const FrameSurface& surface,
   const auto centres = geom::poisson_disk_points(surface.mesh, settings.radius, seed);
   par::run_collectively(comm, [&] {
     for (std::size_t i = std::size_t(comm.rank); i < centres.size(); i += std::size_t(comm.size)) {
-      auto patch = build_patch(surface, centres[i], settings.radius, std::int64_t(i), 0, seed);
+      auto patch = build_patch(surface, centres[i], settings.radius, std::int64_t(i), 0, seed, i);
       update_weights(patch, settings.radius, settings.delta_max);
       state.patches.push_back(std::move(patch));
     }
@@ -282,6 +282,7 @@ void FluidLappedPipeline::run(RunContext& ctx) {
          {"created", populated.created},
          {"removed", populated.removed},
          {"creation_rounds", populated.rounds},
+         {"candidates_rejected", populated.rejected},
          {"used_texels", coverage.used},
          {"covered_texels", coverage.covered},
          {"unreachable_texels", coverage.unreachable},

@@ -130,7 +130,8 @@ std::vector<Eigen::Vector2d> isometric_layout(const geom::TriangleMesh& disk) {
 } // namespace
 
 Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, double radius,
-                  std::int64_t id, std::int32_t frame_index, std::uint64_t seed) {
+                  std::int64_t id, std::int32_t frame_index, std::uint64_t seed,
+                  std::uint64_t rotation_key) {
   TEXSIM_VERIFY(centre.triangle >= 0 && centre.triangle < frame.mesh.num_triangles(),
                 "patch " << id << " centred on triangle " << centre.triangle
                          << " outside the frame");
@@ -181,7 +182,7 @@ Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, d
   }
   const double scale = uv_area > 0 ? std::sqrt(surface_area / uv_area) : 1.0;
   const CounterRng rng(seed, kPatchRotationStream);
-  const Eigen::Rotation2Dd turn(2.0 * M_PI * rng.uniform(std::uint64_t(id), 0));
+  const Eigen::Rotation2Dd turn(2.0 * M_PI * rng.uniform(rotation_key, 0));
   // p's uv from its triangle's corners (p's triangle is always the first patch triangle).
   const auto& first = disk.triangles.front();
   const auto weights = geom::barycentric_weights(
@@ -201,6 +202,11 @@ Patch build_patch(const FrameSurface& frame, const geom::SurfacePoint& centre, d
   patch.triangles = std::move(disk.triangles);
   patch.weights.assign(patch.positions.size(), 0.0);
   return patch;
+}
+
+std::uint64_t created_patch_rotation_key(std::int32_t frame_index, int x, int y) {
+  // 24 bits of x and y each (atlases up to 16M texels a side), the frame + 1 above them.
+  return (std::uint64_t(frame_index + 1) << 48) | (std::uint64_t(y) << 24) | std::uint64_t(x);
 }
 
 } // namespace texsim::pipelines::fluid_lapped

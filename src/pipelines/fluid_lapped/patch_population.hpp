@@ -22,7 +22,7 @@ struct PopulationSettings {
 /// What covering one frame did.
 struct PopulationReport {
   std::int64_t created = 0;  ///< new patches accepted
-  std::int64_t rejected = 0; ///< candidates whose texel an earlier new patch covered
+  std::int64_t rejected = 0; ///< candidates built but not accepted (their texel was covered)
   std::int64_t removed = 0;  ///< patches that won no texel
   std::int64_t patches = 0;  ///< patches after the frame
   int rounds = 0;            ///< candidate rounds
@@ -34,7 +34,9 @@ struct PopulationReport {
 /// skips those an accepted new patch covers, builds candidates for the next `batch` of the rest
 /// (candidate i on rank i mod size, id next_id + i, which lists the round's texels it covers:
 /// only those lists travel, and an accepted patch stays on the rank that built it), and accepts
-/// them in texel order, dropping a candidate whose texel an earlier one covers; ids of dropped
+/// them in texel order, dropping a candidate whose texel an earlier one covers. Texels close to
+/// an earlier pick of the batch are deferred instead of picked; one that turns out uncovered ends
+/// the batch, so the accepted patches are those of the one-texel-at-a-time walk. Ids of dropped
 /// candidates are skipped, so ids never depend on the rank count. A texel whose own new patch
 /// does not cover it (its centre triangle rejected) is marked unreachable instead of looping.
 /// Collective.
