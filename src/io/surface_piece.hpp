@@ -9,10 +9,11 @@
 
 namespace texsim::io {
 
-/// The values of a field: real numbers are written as Float64; ids, ranks and other integers
-/// keep their integer type (Int32 or Int64), so ParaView colours and thresholds them exactly.
+/// The values of a field: real numbers are written as Float64, or as Float32 when they are
+/// floats already (half the bytes); ids, ranks and other integers keep their integer type (Int32
+/// or Int64), so ParaView colours and thresholds them exactly.
 using FieldValues = std::variant<std::span<const double>, std::span<const std::int32_t>,
-                                 std::span<const std::int64_t>>;
+                                 std::span<const std::int64_t>, std::span<const float>>;
 
 /// A named array with `components` values per point (or per cell), stored tuple after tuple.
 /// Not owned: the caller keeps the values alive while writing.
@@ -25,9 +26,9 @@ struct DataField {
   std::size_t size() const {
     return std::visit([](const auto& span) { return span.size(); }, values);
   }
-  /// The VTK XML type name of the values: "Float64", "Int32" or "Int64".
+  /// The VTK XML type name of the values: "Float64", "Int32", "Int64" or "Float32".
   const char* vtk_type_name() const {
-    constexpr const char* names[] = {"Float64", "Int32", "Int64"};
+    constexpr const char* names[] = {"Float64", "Int32", "Int64", "Float32"};
     return names[values.index()];
   }
 };

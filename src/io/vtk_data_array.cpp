@@ -1,6 +1,7 @@
 #include "io/vtk_data_array.hpp"
 
 #include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
 
@@ -9,11 +10,13 @@
 namespace texsim::io {
 namespace {
 
-/// The VTK array class that stores T with T's own type: Float64, Int32 or Int64 in the file.
+/// The VTK array class that stores T with T's own type: Float64, Int32, Int64 or Float32 in the
+/// file.
 template <class T> struct VtkArrayOf;
 template <> struct VtkArrayOf<double> { using type = vtkDoubleArray; };
 template <> struct VtkArrayOf<std::int32_t> { using type = vtkTypeInt32Array; };
 template <> struct VtkArrayOf<std::int64_t> { using type = vtkTypeInt64Array; };
+template <> struct VtkArrayOf<float> { using type = vtkFloatArray; };
 
 template <class T>
 vtkSmartPointer<vtkDataArray> typed_array(const std::string& name, int components,

@@ -28,17 +28,20 @@ TEST(ImageDataWriter, IdsAndRowsRoundTripThroughVtk) {
   std::vector<std::int64_t> ids;
   std::vector<std::int32_t> ages;
   std::vector<double> uv;
+  std::vector<float> weights; // a float field stays Float32, each value exact
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       ids.push_back((std::int64_t{1} << 60) + 10 * y + x);
       ages.push_back(-x * y);
       uv.insert(uv.end(), {x + 0.25, y + 0.75});
+      weights.push_back(1.0f / float(3 + 10 * y + x));
     }
   const auto path = std::filesystem::temp_directory_path() / "texsim_image_data_writer.vti";
   write_image_data(path, width, height,
                    {{"id", 1, std::span<const std::int64_t>(ids)},
                     {"age", 1, std::span<const std::int32_t>(ages)},
-                    {"uv", 2, std::span<const double>(uv)}});
+                    {"uv", 2, std::span<const double>(uv)},
+                    {"w", 1, std::span<const float>(weights)}});
   vtkNew<vtkXMLImageDataReader> reader;
   reader->SetFileName(path.c_str());
   reader->Update();
@@ -55,6 +58,8 @@ TEST(ImageDataWriter, IdsAndRowsRoundTripThroughVtk) {
   auto* age = image->GetPointData()->GetArray("age");
   auto* coordinates = image->GetPointData()->GetArray("uv");
   ASSERT_EQ(coordinates->GetNumberOfComponents(), 2);
+  auto* weight = image->GetPointData()->GetArray("w");
+  ASSERT_EQ(weight->GetDataType(), VTK_FLOAT);
   for (int j = 0; j < height; ++j)
     for (int x = 0; x < width; ++x) {
       const int y = height - 1 - j; // VTK's row j is our row height - 1 - j
@@ -62,6 +67,7 @@ TEST(ImageDataWriter, IdsAndRowsRoundTripThroughVtk) {
       EXPECT_EQ(id->GetVariantValue(at).ToTypeInt64(), ids[std::size_t(y * width + x)]);
       EXPECT_EQ(age->GetTuple1(at), ages[std::size_t(y * width + x)]);
       EXPECT_EQ(coordinates->GetComponent(at, 1), y + 0.75);
+      EXPECT_EQ(float(weight->GetTuple1(at)), weights[std::size_t(y * width + x)]);
     }
   std::filesystem::remove(path);
 }

@@ -165,7 +165,8 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
       heights.assign(std::size_t(n) * std::size_t(n), 0);
     std::vector<std::int64_t> id(samples.size());
     std::vector<std::int32_t> age(samples.size(), -1);
-    std::vector<double> uv(2 * samples.size(), 0.0);
+    std::vector<float> uv(2 * samples.size(), 0.0f); // the samples' own floats
+    auto birth = births.end();
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const auto& s = samples[i];
       id[i] = s.patch;
@@ -177,11 +178,13 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
       if (exemplar_.displacement)
         heights[i] = std::uint16_t(std::lround(
             65535.0 * std::clamp(exemplar_.displacement->at(texel[0], texel[1]), 0.0f, 1.0f)));
-      const auto birth =
-          std::lower_bound(births.begin(), births.end(), s.patch,
-                           [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
-      TEXSIM_VERIFY(birth != births.end() && birth->id == s.patch,
-                    "texel of patch " << s.patch << " that no rank holds");
+      // Neighbouring texels mostly show the same patch: search only when it changes.
+      if (birth == births.end() || birth->id != s.patch) {
+        birth = std::lower_bound(births.begin(), births.end(), s.patch,
+                                 [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
+        TEXSIM_VERIFY(birth != births.end() && birth->id == s.patch,
+                      "texel of patch " << s.patch << " that no rank holds");
+      }
       age[i] = k - birth->frame;
       uv[2 * i] = s.u;
       uv[2 * i + 1] = s.v;
@@ -196,7 +199,7 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
     io::write_image_data(dir_ / ids, n, n,
                          {{"patch_id", 1, std::span<const std::int64_t>(id)},
                           {"age", 1, std::span<const std::int32_t>(age)},
-                          {"uv", 2, std::span<const double>(uv)}});
+                          {"uv", 2, std::span<const float>(uv)}});
   });
   ids_.add(time, ids);
 }
