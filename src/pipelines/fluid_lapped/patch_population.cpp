@@ -91,9 +91,9 @@ PopulationReport populate_frame(const par::Comm& comm, const FrameSurface& frame
                                    created_patch_rotation_key(state.frame + 1, texel.x, texel.y));
           update_weights(patch, settings.radius, settings.delta_max);
           // Texels before its own matter no more: they come before every later pick.
-          for (const auto texel :
+          for (const auto position :
                compositor.covered_texels(compositor.image_of(patch), index, picks[i]))
-            covers.push_back({patch.id, texel});
+            covers.push_back({patch.id, position});
           built.push_back(std::move(patch));
         }
       });
