@@ -18,10 +18,11 @@
 
 namespace texsim::pipelines {
 
-/// Keys every config has besides the pipeline's own section (read by app/run_settings.cpp).
+/// Keys every config has besides the pipeline's own section (read by app/run_settings.cpp). The
+/// initial values are the keys' defaults (README's table), here and nowhere else.
 struct RunSettings {
   std::filesystem::path output_dir; ///< output.dir: everything the run writes goes here
-  int output_every = 1;             ///< output.every: steps between ParaView frames
+  int output_every = 10;            ///< output.every: steps between ParaView frames
   int checkpoint_every = 0;         ///< checkpoint.every: steps between checkpoints (0 = never)
   int checkpoint_keep = 3;          ///< checkpoint.keep: how many recent checkpoints to keep
   /// checkpoint.minutes: wall time between checkpoints (0 = never); unset: 30 on several nodes,
