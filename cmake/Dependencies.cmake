@@ -28,6 +28,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(CGAL REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(muparser REQUIRED)
+find_package(ZLIB REQUIRED)
 
 # OpenBLAS (not the reference BLAS that Debian's libblas.so may resolve to): cblas for dense
 # kernels and openblas_set_num_threads, so BLAS does not spawn threads inside our OpenMP regions.

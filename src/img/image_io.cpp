@@ -92,10 +92,6 @@ float to_unit(std::uint8_t v) {
   return static_cast<float>(v) / 255.0f;
 }
 
-std::uint8_t to_byte(float v) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-}
-
 /// Converts VTK's scalars (bottom row first) into an image with row 0 at the top.
 RgbImage from_vtk(vtkImageData& data, const std::filesystem::path& path) {
   int dims[3];
@@ -194,7 +190,7 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
       const Rgb& pixel = image.at(i, image.height() - 1 - j);
       const vtkIdType id = static_cast<vtkIdType>(j) * image.width() + i;
       for (int c = 0; c < 3; ++c) {
-        scalars->SetTypedComponent(id, c, to_byte(pixel[c]));
+        scalars->SetTypedComponent(id, c, channel_to_byte(pixel[c]));
       }
     }
   }
@@ -224,10 +220,14 @@ RgbImage quantize_8bit(const RgbImage& image) {
   RgbImage out = image;
   for (Rgb& pixel : out.data()) {
     for (int c = 0; c < 3; ++c) {
-      pixel[c] = to_unit(to_byte(pixel[c]));
+      pixel[c] = to_unit(channel_to_byte(pixel[c]));
     }
   }
   return out;
+}
+
+std::uint8_t channel_to_byte(float value) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
 }
 
 } // namespace texsim::img

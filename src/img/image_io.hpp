@@ -19,13 +19,16 @@ RgbImage read_image(const std::filesystem::path& path);
 /// file if it cannot be written, leaving a file already at `path` as it was.
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
-/// The value read back after write_png: each channel clamped and rounded to a multiple of 1/255.
 /// Writes `values` (row-major, row 0 at the top) as a 16-bit grey PNG, atomically: a height or
 /// displacement image for renderers, 65535 levels instead of 255. Throws texsim::Error naming the
 /// file if it cannot be written.
 void write_png16(const std::filesystem::path& path, std::span<const std::uint16_t> values,
                  int width, int height);
 
+/// The value read back after write_png: each channel clamped and rounded to a multiple of 1/255.
 RgbImage quantize_8bit(const RgbImage& image);
+
+/// One channel as write_png stores it: clamped to [0, 1], rounded to the nearest of v / 255.
+std::uint8_t channel_to_byte(float value);
 
 } // namespace texsim::img

@@ -17,10 +17,19 @@ namespace texsim::io {
 
 void write_image_data(const std::filesystem::path& path, int width, int height,
                       const std::vector<DataField>& point_fields) {
-  TEXSIM_VERIFY(width > 0 && height > 0,
-                path.string() << ": image of " << width << " x " << height << " pixels");
+  write_image_data_piece(path, width, height, 0, height, point_fields);
+}
+
+void write_image_data_piece(const std::filesystem::path& path, int width, int height, int first_row,
+                            int whole_height, const std::vector<DataField>& point_fields) {
+  TEXSIM_VERIFY(width > 0 && height > 0 && first_row >= 0 && first_row + height <= whole_height,
+                path.string() << ": rows " << first_row << " .. " << first_row + height - 1
+                              << " of " << width << " pixels in an image of " << whole_height
+                              << " rows");
   vtkNew<vtkImageData> image;
-  image->SetDimensions(width, height, 1);
+  // VTK's rows run bottom to top: row y of ours is VTK's whole_height - 1 - y.
+  const int vtk_first = whole_height - first_row - height;
+  image->SetExtent(0, width - 1, vtk_first, vtk_first + height - 1, 0, 0);
   for (const auto& field : point_fields) {
     TEXSIM_VERIFY(field.size() == std::size_t(field.components) * width * height,
                   path.string() << ": field '" << field.name << "' has " << field.size()

@@ -16,4 +16,9 @@ namespace texsim::io {
 void write_image_data(const std::filesystem::path& path, int width, int height,
                       const std::vector<DataField>& point_fields);
 
+/// The same for rows first_row .. first_row + height - 1 of a taller image of `whole_height`
+/// rows: a piece of a .pvti, its extent saying where it lies in the whole image.
+void write_image_data_piece(const std::filesystem::path& path, int width, int height, int first_row,
+                            int whole_height, const std::vector<DataField>& point_fields);
+
 } // namespace texsim::io

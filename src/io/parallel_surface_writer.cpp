@@ -2,6 +2,7 @@
 
 #include "core/atomic_output.hpp"
 #include "core/error.hpp"
+#include "io/parallel_array_declarations.hpp"
 #include "io/vtk_surface_writer.hpp"
 #include "io/xml_escape.hpp"
 #include "par/collective.hpp"
@@ -27,19 +28,6 @@ std::string field_signature(const SurfacePiece& piece) {
     signature += "c:" + field.name + ":" + std::to_string(field.components) + ":" +
                  field.vtk_type_name() + ";";
   return signature;
-}
-
-void write_array_declarations(std::ostringstream& xml, const char* tag,
-                              const std::vector<DataField>& fields,
-                              const std::string& texture_coordinates = "") {
-  xml << "    <" << tag
-      << (texture_coordinates.empty() ? std::string()
-                                      : " TCoords=\"" + xml_escape(texture_coordinates) + "\"")
-      << ">\n";
-  for (const auto& field : fields)
-    xml << "      <PDataArray type=\"" << field.vtk_type_name() << "\" Name=\""
-        << xml_escape(field.name) << "\" NumberOfComponents=\"" << field.components << "\"/>\n";
-  xml << "    </" << tag << ">\n";
 }
 
 /// The .pvtu/.pvtp file: the arrays every piece holds and the pieces' relative paths.

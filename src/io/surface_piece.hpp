@@ -26,6 +26,13 @@ struct DataField {
   std::size_t size() const {
     return std::visit([](const auto& span) { return span.size(); }, values);
   }
+  /// Tuples [first, first + count) of the field, with its name and components.
+  DataField tuples(std::size_t first, std::size_t count) const {
+    const auto part = [&](const auto& span) -> FieldValues {
+      return span.subspan(first * std::size_t(components), count * std::size_t(components));
+    };
+    return {name, components, std::visit(part, values)};
+  }
   /// The VTK XML type name of the values: "Float64", "Int32", "Int64" or "Float32".
   const char* vtk_type_name() const {
     constexpr const char* names[] = {"Float64", "Int32", "Int64", "Float32"};

@@ -80,7 +80,7 @@ TEST(FluidLapped, StoppedAfterThreeFramesAndContinuedAtAnotherRankCountEndsWithT
   const std::string text((std::istreambuf_iterator<char>(pvd)), {});
   for (int k = 0; k < kFrames; ++k) {
     char name[40];
-    std::snprintf(name, sizeof name, "patch_ids_%04d.vti", k);
+    std::snprintf(name, sizeof name, "patch_ids_%04d.pvti", k);
     EXPECT_NE(text.find(name), std::string::npos) << name;
   }
 }

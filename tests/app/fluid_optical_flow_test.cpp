@@ -16,7 +16,7 @@
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
 #include <vtkPointData.h>
-#include <vtkXMLImageDataReader.h>
+#include <vtkXMLPImageDataReader.h>
 
 #include <algorithm>
 #include <cmath>
@@ -70,7 +70,7 @@ GreyPicture luminance(const fs::path& png) {
 /// Component `component` of array `name` of a frame's patch-id image, rows from the top like the
 /// PNG.
 std::vector<double> texel_array(const fs::path& vti, const char* name, int component = 0) {
-  vtkNew<vtkXMLImageDataReader> reader;
+  vtkNew<vtkXMLPImageDataReader> reader;
   reader->SetFileName(vti.c_str());
   reader->Update();
   auto* image = reader->GetOutput();
@@ -112,11 +112,11 @@ TEST(FluidLappedOutputs, EveryCoveredTexelShowsTheExemplarTexelAtItsPatchUv) {
     const auto atlas =
         texsim::img::read_image(out / (std::string("atlas/atlas_") + frame + ".png"));
     const auto ids =
-        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "patch_id");
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".pvti"), "patch_id");
     const auto u =
-        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "uv", 0);
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".pvti"), "uv", 0);
     const auto v =
-        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".vti"), "uv", 1);
+        texel_array(out / (std::string("patch_ids/patch_ids_") + frame + ".pvti"), "uv", 1);
     vtkNew<vtkPNGReader> png16;
     png16->SetFileName(
         (out / (std::string("displacement/displacement_") + frame + ".png")).c_str());
@@ -177,8 +177,8 @@ TEST(FluidLappedOpticalFlow, TheTextureMovesWithTheVortex) {
     char a[64], b[64], ia[64], ib[64];
     std::snprintf(a, sizeof a, "atlas/atlas_%04d.png", k);
     std::snprintf(b, sizeof b, "atlas/atlas_%04d.png", k + 1);
-    std::snprintf(ia, sizeof ia, "patch_ids/patch_ids_%04d.vti", k);
-    std::snprintf(ib, sizeof ib, "patch_ids/patch_ids_%04d.vti", k + 1);
+    std::snprintf(ia, sizeof ia, "patch_ids/patch_ids_%04d.pvti", k);
+    std::snprintf(ib, sizeof ib, "patch_ids/patch_ids_%04d.pvti", k + 1);
     const LucasKanade flow(luminance(out / a), luminance(out / b));
     const auto ids_a = patch_ids(out / ia), ids_b = patch_ids(out / ib);
     std::vector<double> endpoint, angle;

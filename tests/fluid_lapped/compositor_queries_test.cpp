@@ -167,7 +167,7 @@ TEST(AtlasCompositorGutters, EveryTexelShowsTheLowestIdNonErodedPatchAtItsSurfac
   const auto patches = square_patches(frame);
   AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
   compositor.composite(share(comm, patches));
-  const auto image = compositor.gather(0);
+  const auto image = compositor.rows(0, compositor.resolution());
   const auto texels = used_texels(comm, frame.mesh, atlas, erosion);
   if (comm.rank != 0)
     return;
@@ -223,7 +223,7 @@ TEST(AtlasCompositorQueries, AgreeWithTheGatheredAtlas) {
   AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
   const std::vector<Patch> first(patches.begin(), patches.begin() + 3);
   compositor.composite(share(comm, first));
-  auto image = compositor.gather(0);
+  auto image = compositor.rows(0, compositor.resolution());
   image.resize(std::size_t(kResolution * kResolution));
   MPI_Bcast(image.data(), int(image.size() * sizeof(TexelSample)), MPI_BYTE, 0, comm.raw);
 
@@ -271,7 +271,7 @@ TEST(AtlasCompositorQueries, AgreeWithTheGatheredAtlas) {
   EXPECT_EQ(after.front().y, uncovered[5][1]);
   EXPECT_EQ(compositor.coverage().unreachable, 5);
   compositor.composite(share(comm, patches));
-  const auto last = compositor.gather(0);
+  const auto last = compositor.rows(0, compositor.resolution());
   for (std::size_t i = 0; i < 5 && comm.rank == 0; ++i)
     EXPECT_EQ(last[std::size_t(uncovered[i][1] * kResolution + uncovered[i][0])].patch,
               kUnreachableTexel);
@@ -320,7 +320,7 @@ TEST(AtlasCompositorQueries, CoveredTexelsAreWhatCompositingTheLonePatchGives) {
     for (const auto& patch : patches) {
       AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
       compositor.composite(comm.rank == 0 ? std::vector<Patch>{patch} : std::vector<Patch>{});
-      const auto image = compositor.gather(0);
+      const auto image = compositor.rows(0, compositor.resolution());
       if (comm.rank != 0)
         continue;
       const UncoveredTexelIndex index(texels);
@@ -342,13 +342,13 @@ TEST(AtlasCompositorQueries, SameBytesAsOneRank) {
   const auto patches = patches_at(sphere.frame, sphere_centres(24), 0.35, true);
   AtlasCompositor spread(comm, sphere.frame.mesh, sphere.atlas, 16, erosion);
   spread.composite(share(comm, patches));
-  const auto image = spread.gather(0);
+  const auto image = spread.rows(0, spread.resolution());
   if (comm.rank != 0)
     return;
   const par::Comm self{MPI_COMM_SELF, 0, 1};
   AtlasCompositor alone(self, sphere.frame.mesh, sphere.atlas, 40, erosion);
   alone.composite(patches);
-  const auto reference = alone.gather(0);
+  const auto reference = alone.rows(0, alone.resolution());
   EXPECT_EQ(bytes_of(image), bytes_of(reference));
   EXPECT_GT(alone.coverage().covered, alone.coverage().used / 2);
 }
@@ -363,7 +363,7 @@ TEST(AtlasCompositorQueries, SphereTexelUvIsThePatchUvAtTheTexelsSurfacePoint) {
     patches.push_back(slid_on_sphere(sphere.frame, std::move(patch)));
   AtlasCompositor compositor(comm, sphere.frame.mesh, sphere.atlas, 16, erosion);
   compositor.composite(share(comm, patches));
-  const auto image = compositor.gather(0);
+  const auto image = compositor.rows(0, compositor.resolution());
   const auto texels = used_texels(comm, sphere.frame.mesh, sphere.atlas, erosion);
   if (comm.rank != 0)
     return;

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <set>
 
@@ -58,6 +59,11 @@ std::vector<Patch> share(const par::Comm& comm, const std::vector<Patch>& all, b
   return mine;
 }
 
+/// The whole atlas on rank 0 (the other ranks ask for no rows).
+std::vector<TexelSample> whole_on_root(const par::Comm& comm, const AtlasCompositor& compositor) {
+  return compositor.rows(0, comm.rank == 0 ? compositor.resolution() : 0);
+}
+
 TEST(AtlasCompositor, LowestIdNonErodedPatchWinsEveryTexel) {
   const auto comm = par::world();
   const FrameSurface frame(geom::plane(Vec3(1, 1, 0), 20));
@@ -66,7 +72,7 @@ TEST(AtlasCompositor, LowestIdNonErodedPatchWinsEveryTexel) {
   const auto patches = plane_patches(frame);
   AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
   compositor.composite(share(comm, patches, false));
-  const auto image = compositor.gather(0);
+  const auto image = whole_on_root(comm, compositor);
   if (comm.rank != 0)
     return;
   std::size_t covered = 0, eroded_somewhere = 0;
@@ -129,15 +135,15 @@ TEST(AtlasCompositor, AnySplitOfThePatchesGivesTheSameBytesAndLaterPatchesOnlyFi
   spread.composite(share(comm, patches, false));
   AtlasCompositor on_root(comm, frame.mesh, atlas, 24, erosion);
   on_root.composite(share(comm, patches, true));
-  const auto a = spread.gather(0), b = on_root.gather(0);
+  const auto a = whole_on_root(comm, spread), b = whole_on_root(comm, on_root);
   // In two calls: the first three, then the rest below them.
   AtlasCompositor layered(comm, frame.mesh, atlas, 16, erosion);
   const std::vector<Patch> first(patches.begin(), patches.begin() + 3),
       rest(patches.begin() + 3, patches.end());
   layered.composite(share(comm, first, false));
-  const auto before = layered.gather(0);
+  const auto before = whole_on_root(comm, layered);
   layered.composite(share(comm, rest, true));
-  const auto after = layered.gather(0);
+  const auto after = whole_on_root(comm, layered);
   if (comm.rank != 0)
     return;
   EXPECT_EQ(bytes_of(a), bytes_of(b));
@@ -151,6 +157,24 @@ TEST(AtlasCompositor, AnySplitOfThePatchesGivesTheSameBytesAndLaterPatchesOnlyFi
     }
   }
   EXPECT_GT(filled, 0u);
+}
+
+TEST(AtlasCompositor, EachRankGetsTheRowsItAsksFor) {
+  const auto comm = par::world();
+  const FrameSurface frame(geom::plane(Vec3(1, 1, 0), 20));
+  const auto atlas = planar_atlas(frame.mesh, kResolution, 0);
+  const auto erosion = ramp_erosion();
+  AtlasCompositor compositor(comm, frame.mesh, atlas, 24, erosion);
+  compositor.composite(share(comm, plane_patches(frame), false));
+  const auto all = compositor.rows(0, kResolution);
+  // Overlapping ranges that cut tiles (24 rows) anywhere, one per rank.
+  const int first = (7 * comm.rank) % kResolution, last = std::min(kResolution, first + 29);
+  const auto some = compositor.rows(first, last);
+  ASSERT_EQ(some.size(), std::size_t(last - first) * kResolution);
+  const std::vector<TexelSample> expected(all.begin() + first * kResolution,
+                                          all.begin() + last * kResolution);
+  EXPECT_EQ(bytes_of(some), bytes_of(expected));
+  EXPECT_GT(std::count_if(all.begin(), all.end(), [](const auto& s) { return s.patch >= 0; }), 0);
 }
 
 TEST(AtlasCompositor, APatchAcrossAChartSeamIsDrawnIntoBothCharts) {
@@ -182,7 +206,7 @@ TEST(AtlasCompositor, APatchAcrossAChartSeamIsDrawnIntoBothCharts) {
   ASSERT_GE(across.id, 0);
   AtlasCompositor compositor(comm, frame.mesh, atlas, 64, keep_all);
   compositor.composite(comm.rank == 0 ? std::vector<Patch>{across} : std::vector<Patch>{});
-  const auto image = compositor.gather(0);
+  const auto image = whole_on_root(comm, compositor);
   if (comm.rank != 0)
     return;
   const geom::AtlasTexelIndex index(frame.mesh, atlas);

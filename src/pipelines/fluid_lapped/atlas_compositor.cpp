@@ -414,42 +414,48 @@ AtlasCoverage AtlasCompositor::coverage() const {
   return {counts[0], counts[1], counts[2]};
 }
 
-std::vector<TexelSample> AtlasCompositor::gather(int root) const {
-  std::vector<TexelSample> mine;
-  for (const auto& tile : tiles_)
-    mine.insert(mine.end(), tile.samples.begin(), tile.samples.end());
-  const std::size_t bytes = mine.size() * sizeof(TexelSample);
-  TEXSIM_VERIFY(bytes < std::size_t(INT32_MAX), "atlas tiles of one rank above 2 GiB");
-  const int my_bytes = int(bytes);
-  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
-  MPI_Gather(&my_bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_.raw);
-  std::vector<TexelSample> received;
-  if (comm_.rank == root) {
-    std::size_t total = 0;
-    for (int r = 0; r < comm_.size; ++r) {
-      offsets[std::size_t(r)] = int(total);
-      total += std::size_t(counts[std::size_t(r)]);
-    }
-    TEXSIM_VERIFY(total < std::size_t(INT32_MAX), "atlas above 2 GiB: use fewer texels");
-    received.resize(total / sizeof(TexelSample));
-  }
-  MPI_Gatherv(mine.data(), my_bytes, MPI_BYTE, received.data(), counts.data(), offsets.data(),
-              MPI_BYTE, root, comm_.raw);
-  if (comm_.rank != root)
-    return {};
-  std::vector<TexelSample> image(std::size_t(resolution_) * std::size_t(resolution_));
-  const int tiles = tile_count_per_side() * tile_count_per_side();
-  std::vector<std::size_t> next(std::size_t(comm_.size));
+std::vector<TexelSample> AtlasCompositor::rows(int first_row, int last_row) const {
+  TEXSIM_VERIFY(0 <= first_row && first_row <= last_row && last_row <= resolution_,
+                "atlas rows " << first_row << " .. " << last_row - 1 << " asked of "
+                              << resolution_);
+  std::vector<int> asked(2 * std::size_t(comm_.size));
+  const int mine[2] = {first_row, last_row};
+  MPI_Allgather(mine, 2, MPI_INT, asked.data(), 2, MPI_INT, comm_.raw);
+  // A tile's part of rows [first, last), row after row; sender and receiver walk the same tiles.
+  const auto each_row = [](const geom::TexelRect& rect, int first, int last, auto&& visit) {
+    for (int y = std::max(first, rect.y0); y < std::min(last, rect.y1); ++y)
+      visit(y);
+  };
+  std::vector<std::vector<TexelSample>> outgoing(std::size_t(comm_.size));
   for (int r = 0; r < comm_.size; ++r)
-    next[std::size_t(r)] = std::size_t(offsets[std::size_t(r)]) / sizeof(TexelSample);
-  for (int t = 0; t < tiles; ++t) {
-    const auto rect = tile_rect(t);
-    auto& at = next[std::size_t(owner_of_tile(t))];
-    for (int y = rect.y0; y < rect.y1; ++y)
-      for (int x = rect.x0; x < rect.x1; ++x)
-        image[std::size_t(y) * std::size_t(resolution_) + std::size_t(x)] = received[at++];
-  }
-  return image;
+    for (const auto& tile : tiles_) {
+      const auto width = std::size_t(tile.rect.x1 - tile.rect.x0);
+      each_row(tile.rect, asked[2 * std::size_t(r)], asked[2 * std::size_t(r) + 1], [&](int y) {
+        const auto row =
+            tile.samples.begin() + std::ptrdiff_t(std::size_t(y - tile.rect.y0) * width);
+        outgoing[std::size_t(r)].insert(outgoing[std::size_t(r)].end(), row,
+                                        row + std::ptrdiff_t(width));
+      });
+    }
+  const auto received = par::exchange_records(comm_, outgoing);
+  std::vector<TexelSample> strip(std::size_t(last_row - first_row) * std::size_t(resolution_));
+  auto from = received.begin();
+  const int tiles = tile_count_per_side() * tile_count_per_side();
+  for (int owner = 0; owner < comm_.size; ++owner)
+    for (int t = 0; t < tiles; ++t) {
+      if (owner_of_tile(t) != owner)
+        continue;
+      const auto rect = tile_rect(t);
+      const auto width = std::ptrdiff_t(rect.x1 - rect.x0);
+      each_row(rect, first_row, last_row, [&](int y) {
+        std::copy(from, from + width,
+                  strip.begin() +
+                      std::ptrdiff_t(std::size_t(y - first_row) * std::size_t(resolution_) +
+                                     std::size_t(rect.x0)));
+        from += width;
+      });
+    }
+  return strip;
 }
 
 } // namespace texsim::pipelines::fluid_lapped

@@ -93,11 +93,13 @@ public:
   /// Used, covered and unreachable texels of the whole atlas. Collective.
   AtlasCoverage coverage() const;
 
-  /// The whole atlas on `root` (resolution^2 samples, row-major, row 0 at the top); empty on the
-  /// other ranks. Collective.
-  std::vector<TexelSample> gather(int root) const;
+  /// Rows first_row .. last_row - 1 of the atlas on this rank (row-major, row 0 at the top,
+  /// resolution samples a row), each rank asking for its own rows (any, overlapping or none).
+  /// Every tile owner sends the asked-for rows of its tiles. Collective.
+  std::vector<TexelSample> rows(int first_row, int last_row) const;
 
   int resolution() const { return resolution_; }
+  int tile_size() const { return tile_size_; }
 
 private:
   struct Tile {

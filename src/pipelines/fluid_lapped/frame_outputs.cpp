@@ -4,13 +4,15 @@
 #include "geom/seam_split.hpp"
 #include "geom/texture_atlas.hpp"
 #include "img/image_io.hpp"
-#include "io/image_data_writer.hpp"
+#include "io/parallel_image_data_writer.hpp"
+#include "io/parallel_png_writer.hpp"
 #include "io/parallel_surface_writer.hpp"
-#include "par/collective.hpp"
+#include "par/record_exchange.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 
@@ -64,7 +66,19 @@ FrameOutputs::FrameOutputs(const par::Comm& comm, std::filesystem::path output_d
     : comm_(comm), dir_(std::move(output_dir)), exemplar_(exemplar), erosion_(erosion),
       surface_(open_series(comm, dir_ / "surface.pvd", restart_time)),
       patches_(open_series(comm, dir_ / "patches.pvd", restart_time)),
-      ids_(open_series(comm, dir_ / "patch_ids.pvd", restart_time)) {}
+      ids_(open_series(comm, dir_ / "patch_ids.pvd", restart_time)) {
+  // The exemplar's texels as the PNGs store them, converted once.
+  for (const auto& c : exemplar_.colour.data())
+    exemplar_rgb8_.insert(
+        exemplar_rgb8_.end(),
+        {img::channel_to_byte(c.r), img::channel_to_byte(c.g), img::channel_to_byte(c.b)});
+  if (exemplar_.displacement)
+    for (const float h : exemplar_.displacement->data()) {
+      const auto level = std::uint16_t(std::lround(65535.0 * std::clamp(h, 0.0f, 1.0f)));
+      exemplar_height16_.insert(exemplar_height16_.end(),
+                                {std::uint8_t(level >> 8), std::uint8_t(level & 0xff)});
+    }
+}
 
 std::vector<std::filesystem::path> FrameOutputs::series() const {
   return {surface_.path(), patches_.path(), ids_.path()};
@@ -129,79 +143,87 @@ void FrameOutputs::write_patches(int k, double time, std::span<const Patch> patc
   patches_.add(time, "patches/" + name + ".pvtp");
 }
 
-void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compositor,
-                               std::span<const Patch> patches) {
-  const int root = k % comm_.size;
-  const auto samples = compositor.gather(root);
-  // The birth frame of every patch, for the ages.
-  struct Birth {
-    std::int64_t id;
-    std::int32_t frame;
-  };
+std::vector<FrameOutputs::Birth> FrameOutputs::births(std::span<const Patch> patches) const {
   std::vector<Birth> mine;
   for (const auto& patch : patches)
     mine.push_back({patch.id, patch.birth_frame});
-  const int bytes = int(mine.size() * sizeof(Birth));
-  std::vector<int> counts(std::size_t(comm_.size)), offsets(std::size_t(comm_.size));
-  MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_.raw);
-  for (int r = 1; r < comm_.size; ++r)
-    offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-  std::vector<Birth> births(
-      comm_.rank == root ? std::size_t(offsets.back() + counts.back()) / sizeof(Birth) : 0);
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, births.data(), counts.data(), offsets.data(), MPI_BYTE,
-              root, comm_.raw);
-  const std::string png = "atlas/" + numbered("atlas", k, ".png");
-  const std::string displacement = "displacement/" + numbered("displacement", k, ".png");
-  const std::string ids = "patch_ids/" + numbered("patch_ids", k, ".vti");
-  par::run_collectively(comm_, [&] {
-    if (comm_.rank != root)
-      return;
-    std::sort(births.begin(), births.end(),
-              [](const Birth& a, const Birth& b) { return a.id < b.id; });
-    const int n = compositor.resolution();
-    img::RgbImage colour(n, n);
-    std::vector<std::uint16_t> heights;
+  auto all = par::allgather_records(comm_, mine);
+  std::sort(all.begin(), all.end(), [](const Birth& a, const Birth& b) { return a.id < b.id; });
+  return all;
+}
+
+void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compositor,
+                               std::span<const Patch> patches) {
+  // Strips of tile rows, an even share of them per rank in rank order: the same strips (and so
+  // the same files) at any rank count.
+  const int n = compositor.resolution(), strip_rows = compositor.tile_size();
+  const int strips = (n + strip_rows - 1) / strip_rows;
+  const int first_strip = int(std::int64_t(strips) * comm_.rank / comm_.size);
+  const int end_strip = int(std::int64_t(strips) * (comm_.rank + 1) / comm_.size);
+  const int first_row = std::min(first_strip * strip_rows, n);
+  const int end_row = std::min(end_strip * strip_rows, n);
+  // Also the row above (PNG's filters look at it) and the row below (the .vti pieces share it).
+  const int fetched_first = end_row > first_row ? std::max(first_row - 1, 0) : 0;
+  const int fetched_end = end_row > first_row ? std::min(end_row + 1, n) : 0;
+  const auto samples = compositor.rows(fetched_first, fetched_end);
+  const auto birth = births(patches);
+
+  const auto texels = samples.size();
+  std::vector<std::uint8_t> colour(3 * texels, 0), heights;
+  if (exemplar_.displacement)
+    heights.assign(2 * texels, 0);
+  std::vector<std::int64_t> id(texels);
+  std::vector<std::int32_t> age(texels, -1);
+  std::vector<float> uv(2 * texels, 0.0f); // the samples' own floats
+  auto born = birth.end();
+  for (std::size_t i = 0; i < texels; ++i) {
+    const auto& s = samples[i];
+    id[i] = s.patch;
+    if (s.patch < 0)
+      continue;
+    const auto texel = erosion_.exemplar_texel(Eigen::Vector2d(s.u, s.v));
+    const auto at =
+        std::size_t(texel[1]) * std::size_t(exemplar_.colour.width()) + std::size_t(texel[0]);
+    std::copy_n(&exemplar_rgb8_[3 * at], 3, &colour[3 * i]);
     if (exemplar_.displacement)
-      heights.assign(std::size_t(n) * std::size_t(n), 0);
-    std::vector<std::int64_t> id(samples.size());
-    std::vector<std::int32_t> age(samples.size(), -1);
-    std::vector<float> uv(2 * samples.size(), 0.0f); // the samples' own floats
-    auto birth = births.end();
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const auto& s = samples[i];
-      id[i] = s.patch;
-      if (s.patch < 0)
-        continue;
-      const auto texel = erosion_.exemplar_texel(Eigen::Vector2d(s.u, s.v));
-      const int x = int(i % std::size_t(n)), y = int(i / std::size_t(n));
-      colour.at(x, y) = exemplar_.colour.at(texel[0], texel[1]);
-      if (exemplar_.displacement)
-        heights[i] = std::uint16_t(std::lround(
-            65535.0 * std::clamp(exemplar_.displacement->at(texel[0], texel[1]), 0.0f, 1.0f)));
-      // Neighbouring texels mostly show the same patch: search only when it changes.
-      if (birth == births.end() || birth->id != s.patch) {
-        birth = std::lower_bound(births.begin(), births.end(), s.patch,
-                                 [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
-        TEXSIM_VERIFY(birth != births.end() && birth->id == s.patch,
-                      "texel of patch " << s.patch << " that no rank holds");
-      }
-      age[i] = k - birth->frame;
-      uv[2 * i] = s.u;
-      uv[2 * i + 1] = s.v;
+      std::copy_n(&exemplar_height16_[2 * at], 2, &heights[2 * i]);
+    // Neighbouring texels mostly show the same patch: search only when it changes.
+    if (born == birth.end() || born->id != s.patch) {
+      born = std::lower_bound(birth.begin(), birth.end(), s.patch,
+                              [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
+      TEXSIM_VERIFY(born != birth.end() && born->id == s.patch,
+                    "texel of patch " << s.patch << " that no rank holds");
     }
-    std::filesystem::create_directories(dir_ / "atlas");
-    img::write_png(dir_ / png, colour);
-    if (exemplar_.displacement) {
-      std::filesystem::create_directories(dir_ / "displacement");
-      img::write_png16(dir_ / displacement, heights, n, n);
-    }
-    std::filesystem::create_directories(dir_ / "patch_ids");
-    io::write_image_data(dir_ / ids, n, n,
-                         {{"patch_id", 1, std::span<const std::int64_t>(id)},
-                          {"age", 1, std::span<const std::int32_t>(age)},
-                          {"uv", 2, std::span<const float>(uv)}});
-  });
-  ids_.add(time, ids);
+    age[i] = k - born->frame;
+    uv[2 * i] = s.u;
+    uv[2 * i + 1] = s.v;
+  }
+
+  const int root = k % comm_.size;
+  const auto own = std::size_t(first_row - fetched_first) * std::size_t(n); // first owned texel
+  const auto png_rows = [&](const std::vector<std::uint8_t>& pixels, std::size_t bytes_per_texel) {
+    const auto row_bytes = bytes_per_texel * std::size_t(n);
+    const auto owned = std::span(pixels).subspan(own * bytes_per_texel,
+                                                 std::size_t(end_row - first_row) * row_bytes);
+    const auto above = first_row > 0 && end_row > first_row ? std::span(pixels).first(row_bytes)
+                                                            : std::span<const std::uint8_t>();
+    return io::PngRows{first_row, end_row - first_row, owned, above};
+  };
+  io::write_parallel_png(comm_, dir_ / "atlas" / numbered("atlas", k, ".png"), n, n,
+                         io::PngPixels::rgb8, png_rows(colour, 3), strip_rows, root);
+  if (exemplar_.displacement)
+    io::write_parallel_png(comm_, dir_ / "displacement" / numbered("displacement", k, ".png"), n, n,
+                           io::PngPixels::grey16, png_rows(heights, 2), strip_rows, root);
+  const auto piece_texels = texels - own;
+  const auto name = numbered("patch_ids", k, "");
+  io::write_parallel_image_data(
+      comm_, dir_ / "patch_ids", name, n, n, strip_rows,
+      {first_strip,
+       end_strip - first_strip,
+       {{"patch_id", 1, std::span<const std::int64_t>(id).subspan(own, piece_texels)},
+        {"age", 1, std::span<const std::int32_t>(age).subspan(own, piece_texels)},
+        {"uv", 2, std::span<const float>(uv).subspan(2 * own, 2 * piece_texels)}}});
+  ids_.add(time, "patch_ids/" + name + ".pvti");
 }
 
 } // namespace texsim::pipelines::fluid_lapped
