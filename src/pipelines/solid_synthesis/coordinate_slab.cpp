@@ -1,30 +1,29 @@
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 
 #include "core/error.hpp"
+#include "par/record_exchange.hpp"
 
 #include <algorithm>
+#include <bit>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
 /// Slabs as thin as the halo: the ring exchange then still finds every halo plane on the next
-/// rank, and a child's parent plane lies in the rank's own slab by the doubling of the bounds.
+/// rank.
 constexpr int kMinPlanesPerRank = kSlabHalo;
 
 } // namespace
 
 LevelLayout level_layout(int level, int rank, int ranks) {
   const int size = 1 << level;
-  if (ranks == 1 || size < kMinPlanesPerRank * ranks)
-    return {size, 0, size, true};
-  int first_split = 0;
-  while ((1 << first_split) < kMinPlanesPerRank * ranks)
-    ++first_split;
-  const auto bound = [&](int r) {
-    const std::int64_t coarse = (std::int64_t{r} << first_split) / ranks;
-    return static_cast<int>(coarse << (level - first_split));
-  };
-  return {size, bound(rank), bound(rank + 1), false};
+  const int active = std::min(ranks, size / kMinPlanesPerRank);
+  if (active <= 1)
+    return {size, 0, size, true, 1};
+  if (rank >= active)
+    return {size, size, size, false, active};
+  const auto bound = [&](int r) { return static_cast<int>(std::int64_t{size} * r / active); };
+  return {size, bound(rank), bound(rank + 1), false, active};
 }
 
 CoordinateSlab::CoordinateSlab(const LevelLayout& layout)
@@ -64,10 +63,12 @@ void CoordinateSlab::exchange_halo(const par::Comm& comm) {
     }
     return;
   }
+  if (comm.rank >= layout_.ranks)
+    return;
   TEXSIM_VERIFY(owned_planes >= kSlabHalo, "slab of " << owned_planes << " planes is thinner "
                                                       << "than the halo");
-  const int previous = (comm.rank + comm.size - 1) % comm.size;
-  const int next = (comm.rank + 1) % comm.size;
+  const int previous = (comm.rank + layout_.ranks - 1) % layout_.ranks;
+  const int next = (comm.rank + 1) % layout_.ranks;
   const int count = static_cast<int>(kSlabHalo * plane * 3);
   static_assert(sizeof(Coord) == 3 * sizeof(std::int32_t));
   // Lowest owned planes go to the previous rank's upper halo; highest to the next rank's lower.
@@ -77,6 +78,41 @@ void CoordinateSlab::exchange_halo(const par::Comm& comm) {
   MPI_Sendrecv(data + local(layout_.z_end - kSlabHalo) * plane, count, MPI_INT32_T, next, 32,
                data + local(layout_.z_begin - kSlabHalo) * plane, count, MPI_INT32_T, previous, 32,
                comm.raw, MPI_STATUS_IGNORE);
+}
+
+CoordinateSlab parent_planes(const par::Comm& comm, const CoordinateSlab& parent,
+                             const LevelLayout& child) {
+  const LevelLayout& own = parent.layout();
+  TEXSIM_VERIFY(child.size == 2 * own.size,
+                "a level of " << child.size << " voxels under one of " << own.size);
+  // Parent planes [first, last) read by the owned planes of a child layout.
+  const auto needed = [](const LevelLayout& c) {
+    return c.z_begin < c.z_end ? std::pair{c.z_begin / 2, (c.z_end + 1) / 2} : std::pair{0, 0};
+  };
+  const auto [first, last] = needed(child);
+  CoordinateSlab planes({own.size, first, last, false, comm.size});
+  const std::size_t plane = planes.plane_size();
+  if (own.replicated) {
+    for (int z = first; z < last; ++z)
+      std::copy_n(&parent.at(0, 0, z), plane, &planes.at(0, 0, z));
+    return planes;
+  }
+  const int child_level = std::countr_zero(static_cast<unsigned>(child.size));
+  std::vector<std::vector<Coord>> outgoing(static_cast<std::size_t>(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    const auto [from, to] = needed(level_layout(child_level, r, comm.size));
+    for (int z = std::max(from, own.z_begin); z < std::min(to, own.z_end); ++z)
+      outgoing[static_cast<std::size_t>(r)].insert(outgoing[static_cast<std::size_t>(r)].end(),
+                                                   &parent.at(0, 0, z),
+                                                   &parent.at(0, 0, z) + plane);
+  }
+  // The owners' planes are disjoint and increasing with the rank: they arrive in order.
+  const auto received = par::exchange_records(comm, outgoing);
+  TEXSIM_VERIFY(received.size() == static_cast<std::size_t>(last - first) * plane,
+                "parent planes " << first << " .. " << last - 1 << ": " << received.size()
+                                 << " voxels received");
+  std::copy(received.begin(), received.end(), planes.owned().begin());
+  return planes;
 }
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -3,9 +3,10 @@
 /// z-slabs across ranks with a halo of planes copied from the neighbouring slabs.
 ///
 /// Levels are n^3 with n a power of two and the volume is a 3-torus (the result tiles), so x and
-/// y wrap with a mask and the slabs form a ring. Coarse levels, too thin to split, are replicated
-/// on every rank; the computation per voxel is the same either way, which is what makes the
-/// result the same bytes for any rank count.
+/// y wrap with a mask and the slabs form a ring. A coarse level is split over as many ranks as
+/// it has pairs of planes (the rest wait), and the two coarsest (1 and 2 voxels wide) are
+/// replicated on every rank; the computation per voxel is the same either way, which is what
+/// makes the result the same bytes for any rank count.
 #include "par/comm.hpp"
 
 #include <cstddef>
@@ -31,12 +32,14 @@ struct LevelLayout {
   int z_begin = 0;        ///< first owned plane
   int z_end = 1;          ///< one past the last owned plane
   bool replicated = true; ///< every rank holds (and computes) the whole level
+  int ranks = 1;          ///< the ranks holding planes of a split level: 0 .. ranks - 1
 };
 
-/// Layout of pyramid level `level` (2^level voxels a side) on `rank` of `ranks`. The first level
-/// at least kSlabHalo (2) planes per rank thick is split evenly; every finer level doubles those
-/// bounds, so a child plane's parent is always in the rank's own parent slab. Coarser levels are
-/// replicated.
+/// Layout of pyramid level `level` (2^level voxels a side) on `rank` of `ranks`. A level is split
+/// over min(ranks, n / kSlabHalo) ranks, evenly, so every slab is at least a halo thick; the
+/// other ranks hold no plane of it (z_begin = z_end = n). Only levels of fewer than 2 kSlabHalo
+/// planes (1 and 2 voxels wide) are replicated. A child's parent planes may lie on other ranks:
+/// parent_planes() fetches them.
 LevelLayout level_layout(int level, int rank, int ranks);
 
 /// Planes of halo on each side: the correction reads voxels up to 2 planes away.
@@ -53,12 +56,18 @@ public:
   Coord& at(int i, int j, int k) { return values_[index(i, j, k)]; }
   const Coord& at(int i, int j, int k) const { return values_[index(i, j, k)]; }
 
+  /// Voxels in one plane: n^2.
+  std::size_t plane_size() const {
+    return static_cast<std::size_t>(layout_.size) * static_cast<std::size_t>(layout_.size);
+  }
+
   /// The owned planes, x fastest (what a checkpoint or the output stores).
   std::span<Coord> owned();
   std::span<const Coord> owned() const;
 
-  /// Fills the halo planes from the neighbouring slabs (ring over ranks), or from this slab's own
-  /// planes when the level is replicated. Collective when the level is split.
+  /// Fills the halo planes from the neighbouring slabs (ring over the ranks holding planes), or
+  /// from this slab's own planes when the level is replicated. Collective when the level is split
+  /// (a rank holding no plane returns at once).
   void exchange_halo(const par::Comm& comm);
 
 private:
@@ -70,12 +79,16 @@ private:
                 static_cast<std::size_t>(layout_.size) *
                     static_cast<std::size_t>(k - layout_.z_begin + kSlabHalo));
   }
-  std::size_t plane_size() const {
-    return static_cast<std::size_t>(layout_.size) * static_cast<std::size_t>(layout_.size);
-  }
 
   LevelLayout layout_;
   std::vector<Coord> values_;
 };
+
+/// The planes of `parent` that the child level laid out by `child` (this rank's layout of the
+/// level below `parent`) reads when it is made: planes z / 2 of its owned planes z, fetched from
+/// the ranks that own them, as the owned planes of a slab of the parent's size (no halo). Empty
+/// when this rank holds no child plane. Collective.
+CoordinateSlab parent_planes(const par::Comm& comm, const CoordinateSlab& parent,
+                             const LevelLayout& child);
 
 } // namespace texsim::pipelines::solid_synthesis

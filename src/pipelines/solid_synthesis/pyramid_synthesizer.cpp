@@ -263,6 +263,7 @@ std::optional<CoordinateSlab> PyramidSynthesizer::next_level(const CoordinateSla
   const int h = spacing(level);
   const std::optional<LevelJacobians> jacobians = level_jacobians(layout);
   const auto isometric_children = child_offsets(h, Eigen::Matrix3f::Identity());
+  const CoordinateSlab parents = parent_planes(comm_, parent, layout);
 
 #pragma omp parallel for schedule(static)
   for (int k = layout.z_begin; k < layout.z_end; ++k)
@@ -271,7 +272,7 @@ std::optional<CoordinateSlab> PyramidSynthesizer::next_level(const CoordinateSla
         const int child = (i & 1) + 2 * (j & 1) + 4 * (k & 1);
         const Coord offset =
             jacobians ? child_offsets(h, jacobians->a(i, j, k))[child] : isometric_children[child];
-        slab.at(i, j, k) = wrapped(parent.at(i >> 1, j >> 1, k >> 1) + offset);
+        slab.at(i, j, k) = wrapped(parents.at(i >> 1, j >> 1, k >> 1) + offset);
       }
   jitter(slab, level);
   if (!correct(slab, level, jacobians, stats, stop))

@@ -58,6 +58,7 @@ nlohmann::json level_json(const par::Comm& comm, const LevelStats& stats,
       {"replicated", layout.replicated && comm.size > 1},
       {"voxels_max_rank", owned},
       {"halo_exchanges", stats.halo_exchanges},
+      {"ranks_computing", layout.replicated ? comm.size : layout.ranks},
       {"halo_bytes_per_exchange", split ? 2 * kSlabHalo * plane * std::int64_t{sizeof(Coord)} : 0}};
 }
 
@@ -180,8 +181,10 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       levels.push_back(level_json(comm, stats, slab->layout()));
       log::info(log::cat(
           "level ", level, ": ", slab->size(), "^3 voxels, spacing ", stats.spacing,
-          slab->layout().replicated && comm.size > 1 ? ", replicated (fewer than 2 planes per rank)"
-                                                     : "",
+          slab->layout().replicated && comm.size > 1 ? ", replicated (too small to split)"
+          : slab->layout().ranks < comm.size
+              ? log::cat(", split over ", slab->layout().ranks, " ranks, the others waiting")
+              : std::string(),
           stats.corrected ? ", corrected" : ", not corrected",
           stats.corrected ? log::cat(", mean match distance ", stats.mean_match_distance)
                           : std::string()));
