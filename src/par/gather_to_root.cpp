@@ -3,12 +3,13 @@
 #include "core/error.hpp"
 
 #include <algorithm>
-#include <cstring>
+#include <vector>
 
 namespace texsim::par {
 
-std::vector<std::byte> gather_to_root(const Comm& comm, std::span<const std::byte> mine, int root,
-                                      std::size_t max_message) {
+void stream_to_root(const Comm& comm, std::span<const std::byte> mine,
+                    const std::function<void(int rank, std::span<const std::byte> bytes)>& consume,
+                    int root, std::size_t max_message) {
   TEXSIM_VERIFY(max_message >= 1 && max_message <= kMaxGatherMessage,
                 "gather_to_root: message size " << max_message << " out of range");
   constexpr int kTag = 7301;
@@ -19,25 +20,32 @@ std::vector<std::byte> gather_to_root(const Comm& comm, std::span<const std::byt
     for (std::size_t at = 0; at < mine.size(); at += max_message)
       MPI_Send(mine.data() + at, static_cast<int>(std::min(max_message, mine.size() - at)),
                MPI_BYTE, root, kTag, comm.raw);
-    return {};
+    return;
   }
-  std::uint64_t total = 0;
-  for (const auto size : sizes)
-    total += size;
-  std::vector<std::byte> all(total);
-  std::byte* out = all.data();
+  std::vector<std::byte> part;
   for (int rank = 0; rank < comm.size; ++rank) {
-    const std::uint64_t size = sizes[static_cast<std::size_t>(rank)];
     if (rank == root) {
-      if (size > 0)
-        std::memcpy(out, mine.data(), size);
-    } else {
-      for (std::uint64_t at = 0; at < size; at += max_message)
-        MPI_Recv(out + at, static_cast<int>(std::min<std::uint64_t>(max_message, size - at)),
-                 MPI_BYTE, rank, kTag, comm.raw, MPI_STATUS_IGNORE);
+      consume(rank, mine);
+      continue;
     }
-    out += size;
+    const std::uint64_t size = sizes[static_cast<std::size_t>(rank)];
+    part.resize(size);
+    for (std::uint64_t at = 0; at < size; at += max_message)
+      MPI_Recv(part.data() + at, static_cast<int>(std::min<std::uint64_t>(max_message, size - at)),
+               MPI_BYTE, rank, kTag, comm.raw, MPI_STATUS_IGNORE);
+    consume(rank, part);
   }
+}
+
+std::vector<std::byte> gather_to_root(const Comm& comm, std::span<const std::byte> mine, int root,
+                                      std::size_t max_message) {
+  std::vector<std::byte> all;
+  stream_to_root(
+      comm, mine,
+      [&](int, std::span<const std::byte> bytes) {
+        all.insert(all.end(), bytes.begin(), bytes.end());
+      },
+      root, max_message);
   return all;
 }
 

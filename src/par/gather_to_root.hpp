@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <functional>
 #include <span>
 #include <type_traits>
 #include <vector>
@@ -14,6 +15,13 @@ namespace texsim::par {
 
 /// Default message size: 1 GiB, well under MPI's int count limit.
 inline constexpr std::size_t kMaxGatherMessage = std::size_t{1} << 30;
+
+/// Every rank's bytes handed to `consume(rank, bytes)` on `root`, in rank order, one rank's part
+/// at a time, so the root never holds more than the largest part (a large result can be turned
+/// into its output as it arrives). Moved in messages of at most `max_message` bytes. Collective.
+void stream_to_root(const Comm& comm, std::span<const std::byte> mine,
+                    const std::function<void(int rank, std::span<const std::byte> bytes)>& consume,
+                    int root = 0, std::size_t max_message = kMaxGatherMessage);
 
 /// Every rank's bytes concatenated in rank order on `root` (empty on the others), moved in
 /// messages of at most `max_message` bytes. Collective.

@@ -40,22 +40,23 @@ void from_vdb(float v, float& out) {
   out = v;
 }
 
-template <class VdbGrid, class T>
-void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
+/// A .vdb of one grid of `dims` voxels whose voxel v (x fastest) is value_of(v).
+template <class VdbGrid, class ValueOf>
+void write_grid(const std::filesystem::path& path, Dims dims, const std::array<double, 3>& s,
+                const std::array<double, 3>& o, const ValueOf& value_of,
                 const std::string& grid_name) {
   initialize_openvdb();
   using ValueT = typename VdbGrid::ValueType;
-  const Dims dims = grid.dims();
   const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
                                openvdb::Coord(dims.nx - 1, dims.ny - 1, dims.nz - 1));
-  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
-  std::transform(grid.data().begin(), grid.data().end(), dense.data(),
-                 [](const T& v) { return to_vdb(v); });
   auto vdb = VdbGrid::create(openvdb::zeroVal<ValueT>());
-  openvdb::tools::copyFromDense(dense, *vdb, openvdb::zeroVal<ValueT>());
+  {
+    openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
+    for (std::size_t v = 0; v < dims.count(); ++v)
+      dense.data()[v] = value_of(v);
+    openvdb::tools::copyFromDense(dense, *vdb, openvdb::zeroVal<ValueT>());
+  }
   vdb->setName(grid_name);
-  const auto& s = grid.spacing();
-  const auto& o = grid.origin();
   vdb->setTransform(
       std::make_shared<openvdb::math::Transform>(std::make_shared<openvdb::math::ScaleTranslateMap>(
           openvdb::Vec3d(s[0], s[1], s[2]), openvdb::Vec3d(o[0], o[1], o[2]))));
@@ -71,6 +72,15 @@ void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
       TEXSIM_VERIFY(false, path.string() << ": cannot write OpenVDB file: " << e.what());
     }
   });
+}
+
+template <class VdbGrid, class T>
+void write_grid(const std::filesystem::path& path, const DenseGrid<T>& grid,
+                const std::string& grid_name) {
+  const auto values = grid.data();
+  write_grid<VdbGrid>(
+      path, grid.dims(), grid.spacing(), grid.origin(),
+      [&](std::size_t v) { return to_vdb(values[v]); }, grid_name);
 }
 
 template <class VdbGrid, class T>
@@ -129,6 +139,26 @@ void write_vdb(const std::filesystem::path& path, const ScalarGrid& grid,
 void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
                const std::string& grid_name) {
   write_grid<openvdb::Vec3SGrid>(path, grid, grid_name);
+}
+
+void write_vdb(const std::filesystem::path& path, const ChannelGrid& grid,
+               const std::string& grid_name) {
+  TEXSIM_VERIFY(grid.channels() == 1 || grid.channels() == 3,
+                path.string() << ": a .vdb grid of " << grid.channels()
+                              << " channels, expected 1 or 3");
+  const std::array<double, 3> spacing{1.0, 1.0, 1.0}, origin{0.0, 0.0, 0.0};
+  if (grid.channels() == 1)
+    write_grid<openvdb::FloatGrid>(
+        path, grid.dims(), spacing, origin, [&](std::size_t v) { return grid.voxel(v)[0]; },
+        grid_name);
+  else
+    write_grid<openvdb::Vec3SGrid>(
+        path, grid.dims(), spacing, origin,
+        [&](std::size_t v) {
+          const auto c = grid.voxel(v);
+          return openvdb::Vec3s(c[0], c[1], c[2]);
+        },
+        grid_name);
 }
 
 namespace {

@@ -8,6 +8,7 @@
 /// "texsim_dense_dims" (and the exact spacing and origin in "texsim_spacing", "texsim_origin"),
 /// so reading restores the grid exactly. Grids written elsewhere (no such metadata) are read over
 /// the bounding box of their active voxels, with spacing and origin from their transform.
+#include "vol/channel_grid.hpp"
 #include "vol/dense_grid.hpp"
 
 #include <array>
@@ -24,6 +25,10 @@ namespace texsim::vol {
 void write_vdb(const std::filesystem::path& path, const ScalarGrid& grid,
                const std::string& grid_name);
 void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
+               const std::string& grid_name);
+/// The same for a grid of 1 channel (a float grid) or 3 (a Vec3s grid), spacing 1 and origin 0,
+/// without a copy as a DenseGrid.
+void write_vdb(const std::filesystem::path& path, const ChannelGrid& grid,
                const std::string& grid_name);
 
 /// Reads the grid called `grid_name` (or, if empty, the first FloatGrid or Vec3SGrid in the file)

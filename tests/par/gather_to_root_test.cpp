@@ -1,11 +1,12 @@
 // gather_to_root: every rank's elements arrive on the root in rank order, whatever the message
 // size (here down to 7 bytes, which splits elements across messages), whichever rank is root,
-// and with ranks that contribute nothing.
+// and with ranks that contribute nothing; stream_to_root hands the parts over one by one.
 #include "par/gather_to_root.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace texsim::par {
@@ -36,6 +37,28 @@ TEST(GatherToRoot, ConcatenatesInRankOrderWithAnyMessageSize) {
       else
         EXPECT_TRUE(all.empty());
     }
+}
+
+TEST(StreamToRoot, HandsEachRanksPartOverAloneInRankOrder) {
+  const Comm comm = world();
+  const auto mine = contribution(comm.rank);
+  const int root = comm.size - 1;
+  std::vector<int> ranks_seen;
+  stream_to_root(
+      comm, std::as_bytes(std::span<const std::int32_t>(mine)),
+      [&](int rank, std::span<const std::byte> bytes) {
+        ranks_seen.push_back(rank);
+        const auto expected = contribution(rank);
+        ASSERT_EQ(bytes.size(), expected.size() * sizeof(std::int32_t)) << "rank " << rank;
+        std::vector<std::int32_t> values(expected.size());
+        std::memcpy(values.data(), bytes.data(), bytes.size());
+        EXPECT_EQ(values, expected) << "rank " << rank;
+      },
+      root, 7);
+  std::vector<int> all_ranks;
+  for (int r = 0; r < comm.size; ++r)
+    all_ranks.push_back(r);
+  EXPECT_EQ(ranks_seen, comm.rank == root ? all_ranks : std::vector<int>{});
 }
 
 TEST(GatherToRoot, EmptyEverywhereGivesEmpty) {

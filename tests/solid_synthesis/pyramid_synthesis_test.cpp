@@ -2,6 +2,7 @@
 // world communicator against one on MPI_COMM_SELF), near-zero neighbourhood error from an
 // exactly tiling exemplar, lower error with correction passes than without, and stripes turned
 // by a slant field.
+#include "par/gather_to_root.hpp"
 #include "pipelines/solid_synthesis/anisometric_field.hpp"
 #include "pipelines/solid_synthesis/appearance_space.hpp"
 #include "pipelines/solid_synthesis/pyramid_synthesizer.hpp"
@@ -42,9 +43,14 @@ Prepared prepare(const vol::RgbGrid& exemplar, int levels) {
   return prepared;
 }
 
-/// The finest level's exemplar coordinates and colours, gathered on rank 0 of `comm`.
-SynthesisResult synthesize(const par::Comm& comm, const Prepared& prepared, int levels, int passes,
-                           const AxesField* field = nullptr) {
+/// The finest level's exemplar coordinates (x fastest) and colours, gathered on rank 0 of `comm`.
+struct Synthesized {
+  std::vector<Coord> coordinates;
+  vol::ChannelGrid colours;
+};
+
+Synthesized synthesize(const par::Comm& comm, const Prepared& prepared, int levels, int passes,
+                       const AxesField* field = nullptr) {
   SynthesisOptions options;
   options.levels = levels;
   options.correction_passes = passes;
@@ -56,7 +62,12 @@ SynthesisResult synthesize(const par::Comm& comm, const Prepared& prepared, int 
   for (int level = 1; level <= levels; ++level)
     slab = *synthesizer.next_level(slab, stats); // no stop check: always a level
   const int n = 1 << levels;
-  return gather_result(comm, slab, {n, n, n}, prepared.space.colours);
+  const auto owned = slab.layout().replicated && !comm.is_root()
+                         ? std::span<const Coord>()
+                         : std::span<const Coord>(slab.owned());
+  auto coordinates = par::gather_to_root(comm, owned);
+  return {std::move(coordinates),
+          gather_result(comm, slab, {n, n, n}, prepared.space.colours).colours};
 }
 
 double error_of(const Prepared& prepared, const vol::ChannelGrid& colours) {
@@ -74,10 +85,11 @@ TEST(PyramidSynthesis, SameBytesOnAnyRankCount) {
   const auto slant = rotation_field(Eigen::Vector3d::UnitZ(), 30.0);
   for (const AxesField* field :
        {static_cast<const AxesField*>(nullptr), static_cast<const AxesField*>(slant.get())}) {
-    const SynthesisResult distributed = synthesize(par::world(), prepared, 5, 2, field);
+    const Synthesized distributed = synthesize(par::world(), prepared, 5, 2, field);
     if (par::world().rank != 0)
       continue;
-    const SynthesisResult serial = synthesize(self_comm(), prepared, 5, 2, field);
+    const Synthesized serial = synthesize(self_comm(), prepared, 5, 2, field);
+    ASSERT_EQ(serial.coordinates.size(), std::size_t{32 * 32 * 32});
     EXPECT_TRUE(distributed.coordinates == serial.coordinates)
         << (field ? "anisometric" : "isometric") << " synthesis differs from the serial one on "
         << par::world().size << " ranks";
@@ -88,8 +100,8 @@ TEST(PyramidSynthesis, TilingExemplarGivesNearZeroNeighbourhoodError) {
   // Period 8 inside a 32^3 exemplar: every coordinate has 64 equivalent copies, and a coherent
   // result reproduces the lattice exactly.
   const Prepared prepared = prepare(vol::lattice_exemplar(32, 8, 5), 5);
-  const SynthesisResult corrected = synthesize(par::world(), prepared, 5, 4);
-  const SynthesisResult jittered = synthesize(par::world(), prepared, 5, 0);
+  const Synthesized corrected = synthesize(par::world(), prepared, 5, 4);
+  const Synthesized jittered = synthesize(par::world(), prepared, 5, 0);
   if (par::world().rank != 0)
     return;
   const double error = error_of(prepared, corrected.colours);
@@ -104,7 +116,7 @@ TEST(PyramidSynthesis, CorrectionPassesLowerTheNeighbourhoodError) {
   const Prepared prepared = prepare(vol::marble_exemplar(32, 11), 5);
   std::vector<double> errors;
   for (const int passes : {0, 1, 3}) {
-    const SynthesisResult result = synthesize(par::world(), prepared, 5, passes);
+    const Synthesized result = synthesize(par::world(), prepared, 5, passes);
     if (par::world().rank == 0)
       errors.push_back(error_of(prepared, result.colours));
   }
@@ -119,8 +131,8 @@ TEST(PyramidSynthesis, CorrectionPassesLowerTheNeighbourhoodError) {
 TEST(PyramidSynthesis, SlantFieldTurnsStripesByItsAngle) {
   const Prepared prepared = prepare(vol::stripe_exemplar(32), 6);
   const auto slant = rotation_field(Eigen::Vector3d::UnitZ(), 30.0);
-  const SynthesisResult isometric = synthesize(par::world(), prepared, 6, 2);
-  const SynthesisResult turned = synthesize(par::world(), prepared, 6, 2, slant.get());
+  const Synthesized isometric = synthesize(par::world(), prepared, 6, 2);
+  const Synthesized turned = synthesize(par::world(), prepared, 6, 2, slant.get());
   if (par::world().rank != 0)
     return;
   const double straight = xy_stripe_orientation_degrees(isometric.colours);

@@ -27,6 +27,21 @@ TEST(VdbIo, RgbRoundTripIsExact) {
   EXPECT_EQ(std::get<RgbGrid>(read_vdb(path, "colour")), grid);
 }
 
+TEST(VdbIo, ChannelGridsWriteAsTheirColourOrScalarGrids) {
+  const auto dir = texsim::test::scratch_dir("vol_vdb_channels");
+  // A channel grid has no spacing or origin: the file says 1 and 0.
+  RgbGrid colours = test::odd_rgb_grid(3);
+  colours.set_spacing({1.0, 1.0, 1.0});
+  colours.set_origin({0.0, 0.0, 0.0});
+  write_vdb(dir / "colour.vdb", to_channels(colours), "colour");
+  EXPECT_EQ(std::get<RgbGrid>(read_vdb(dir / "colour.vdb", "colour")), colours);
+  ScalarGrid density = test::odd_scalar_grid(4);
+  density.set_spacing({1.0, 1.0, 1.0});
+  density.set_origin({0.0, 0.0, 0.0});
+  write_vdb(dir / "density.vdb", to_channels(density), "density");
+  EXPECT_EQ(std::get<ScalarGrid>(read_vdb(dir / "density.vdb", "density")), density);
+}
+
 TEST(VdbIo, EmptyBoundaryLayersSurviveTheRoundTrip) {
   // Only the centre voxel is non-zero: without the stored dims the active bounding box would
   // shrink the grid to 1 x 1 x 1.

@@ -7,6 +7,7 @@
 #include "vol/vdb_io.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <optional>
 #include <string>
 
@@ -34,26 +35,28 @@ SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
   std::vector<Coord> local;
   if (!slab.layout().replicated || comm.is_root())
     local = cropped_owned(slab, dims);
-  // Slabs are in z order by rank, so rank order is the volume's order; any size per rank.
-  const std::vector<Coord> all = par::gather_to_root(comm, std::span<const Coord>(local));
-  if (!comm.is_root())
-    return {};
   const vol::Dims grid_dims{dims[0], dims[1], dims[2]};
-  TEXSIM_VERIFY(all.size() == grid_dims.count(), "gathered " << all.size() << " voxels for a "
-                                                             << grid_dims.count()
-                                                             << "-voxel result");
-
-  SynthesisResult result{vol::ChannelGrid(grid_dims, 3),
-                         vol::ChannelGrid(grid_dims, exemplar.channels())};
-  for (std::size_t v = 0; v < all.size(); ++v) {
-    const Coord& c = all[v];
-    auto coordinate = result.coordinates.voxel(v);
-    coordinate[0] = static_cast<float>(c.x);
-    coordinate[1] = static_cast<float>(c.y);
-    coordinate[2] = static_cast<float>(c.z);
-    const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-    std::copy(colour.begin(), colour.end(), result.colours.voxel(v).begin());
-  }
+  SynthesisResult result{comm.is_root() ? vol::ChannelGrid(grid_dims, exemplar.channels())
+                                        : vol::ChannelGrid()};
+  // Slabs are in z order by rank, so rank order is the volume's order; each slab is coloured as
+  // it arrives and dropped, so rank 0 holds the colours and one slab, never every coordinate.
+  std::size_t next = 0;
+  par::stream_to_root(
+      comm, std::as_bytes(std::span<const Coord>(local)),
+      [&](int, std::span<const std::byte> bytes) {
+        const std::size_t count = bytes.size() / sizeof(Coord);
+        TEXSIM_VERIFY(next + count <= grid_dims.count(),
+                      "more voxels than the " << grid_dims.count() << "-voxel result");
+        for (std::size_t v = 0; v < count; ++v, ++next) {
+          Coord c;
+          std::memcpy(&c, bytes.data() + v * sizeof(Coord), sizeof(Coord));
+          const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
+          std::copy(colour.begin(), colour.end(), result.colours.voxel(next).begin());
+        }
+      });
+  if (comm.is_root())
+    TEXSIM_VERIFY(next == grid_dims.count(),
+                  "gathered " << next << " voxels for a " << grid_dims.count() << "-voxel result");
   return result;
 }
 
@@ -62,13 +65,7 @@ std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir
                                                 const std::vector<int>& cross_sections) {
   std::vector<std::filesystem::path> written;
   const auto vdb = dir / "solid_synthesis.vdb";
-  if (result.colours.channels() == 1) {
-    vol::ScalarGrid density(result.colours.dims());
-    std::copy(result.colours.data().begin(), result.colours.data().end(), density.data().begin());
-    vol::write_vdb(vdb, density, "density");
-  } else {
-    vol::write_vdb(vdb, vol::to_rgb(result.colours), "colour");
-  }
+  vol::write_vdb(vdb, result.colours, result.colours.channels() == 1 ? "density" : "colour");
   written.push_back(vdb);
   for (const int p : cross_sections) {
     // One set per position: the combined image is named after the basename alone.

@@ -1,7 +1,7 @@
 #pragma once
-/// The finished synthesis: gathered on rank 0 (the exemplar-coordinate volume S cropped to the
-/// requested size, and the colours it selects from the exemplar) for the .vdb, the slices and the
-/// metrics, and written in parallel for ParaView.
+/// The finished synthesis: its colours gathered on rank 0 (the exemplar colours that S, cropped to
+/// the requested size, selects) for the .vdb, the slices and the metrics, and S and the colours
+/// written in parallel for ParaView.
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "vol/channel_grid.hpp"
 
@@ -12,12 +12,12 @@
 namespace texsim::pipelines::solid_synthesis {
 
 struct SynthesisResult {
-  vol::ChannelGrid coordinates; ///< S: 3 channels, exemplar voxel x, y, z
-  vol::ChannelGrid colours;     ///< exemplar colours at S (1 or 3 channels)
+  vol::ChannelGrid colours; ///< exemplar colours at S (1 or 3 channels)
 };
 
-/// Gathers the finest level's slabs to rank 0, cropped to `dims`, and looks up the colours.
-/// Collective; only rank 0's result is filled.
+/// Gathers the finest level's slabs to rank 0, cropped to `dims`, looking up the colours slab by
+/// slab as they arrive (rank 0 holds the colours and one slab of S). Collective; only rank 0's
+/// result is filled.
 SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
                               const std::array<int, 3>& dims, const vol::ChannelGrid& exemplar);
 
