@@ -16,11 +16,13 @@ struct ElementGeometry {
   double area = 0;
 };
 
+/// The element's geometry, or area 0 for a degenerate triangle.
 ElementGeometry element_geometry(const geom::Vec3& x0, const geom::Vec3& x1, const geom::Vec3& x2) {
   const std::array<geom::Vec3, 3> x{x0, x1, x2};
   const geom::Vec3 normal = (x1 - x0).cross(x2 - x0);
   const double twice_area = normal.norm();
-  TEXSIM_VERIFY(twice_area > 0, "degenerate triangle in FEM assembly");
+  if (!(twice_area > 0))
+    return {};
   const geom::Vec3 unit_normal = normal / twice_area;
   ElementGeometry element;
   element.area = 0.5 * twice_area;
@@ -63,7 +65,33 @@ P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
     corners_.push_back(
         {mesh.local_index(tri[0]), mesh.local_index(tri[1]), mesh.local_index(tri[2])});
   }
+  // Invert the slots: each value's element entries, in element order (a counting sort).
+  source_offsets_.assign(columns_.size() + 1, 0);
+  for (const auto& entry : slots_)
+    for (const std::int64_t slot : entry)
+      if (slot >= 0)
+        ++source_offsets_[std::size_t(slot) + 1];
+  for (std::size_t v = 0; v < columns_.size(); ++v)
+    source_offsets_[v + 1] += source_offsets_[v];
+  sources_.resize(std::size_t(source_offsets_.back()));
+  std::vector<std::int64_t> next(source_offsets_.begin(), source_offsets_.end() - 1);
+  for (std::size_t e = 0; e < slots_.size(); ++e)
+    for (std::size_t k = 0; k < 9; ++k)
+      if (slots_[e][k] >= 0)
+        sources_[std::size_t(next[std::size_t(slots_[e][k])]++)] = std::int64_t(9 * e + k);
   update_geometry();
+}
+
+std::vector<double> P1Assembler::sum_entries(const std::vector<double>& entries) const {
+  std::vector<double> values(columns_.size());
+#pragma omp parallel for schedule(static)
+  for (std::size_t v = 0; v < values.size(); ++v) {
+    double sum = 0.0;
+    for (auto k = source_offsets_[v]; k < source_offsets_[v + 1]; ++k)
+      sum += entries[std::size_t(sources_[std::size_t(k)])];
+    values[v] = sum;
+  }
+  return values;
 }
 
 void P1Assembler::update_geometry() {
@@ -71,13 +99,20 @@ void P1Assembler::update_geometry() {
   const auto& triangles = mesh_.assembly_triangles();
   areas_.resize(triangles.size());
   gradients_.resize(triangles.size());
-  for (std::size_t e = 0; e < triangles.size(); ++e) {
-    const auto& tri = mesh.triangles[triangles[e]];
+  const auto count = std::int64_t(triangles.size());
+  std::int64_t degenerate = count;
+#pragma omp parallel for schedule(static) reduction(min : degenerate)
+  for (std::int64_t e = 0; e < count; ++e) {
+    const auto& tri = mesh.triangles[triangles[std::size_t(e)]];
     const auto element =
         element_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
-    areas_[e] = element.area;
-    gradients_[e] = element.gradient;
+    areas_[std::size_t(e)] = element.area;
+    gradients_[std::size_t(e)] = element.gradient;
+    if (!(element.area > 0))
+      degenerate = std::min(degenerate, e);
   }
+  TEXSIM_VERIFY(degenerate == count,
+                "degenerate triangle " << triangles[std::size_t(degenerate)] << " in FEM assembly");
 }
 
 par::PetscMat P1Assembler::create_matrix(const par::Comm& comm) const {
@@ -100,7 +135,8 @@ void P1Assembler::set_values(Mat matrix, const std::vector<double>& values) cons
 }
 
 std::vector<double> P1Assembler::mass_values(std::span<const double> weight, bool lumped) const {
-  std::vector<double> values(columns_.size(), 0.0);
+  std::vector<double> entries(9 * slots_.size(), 0.0);
+#pragma omp parallel for schedule(static)
   for (std::size_t e = 0; e < slots_.size(); ++e) {
     const double area = areas_[e];
     std::array<double, 3> w{1.0, 1.0, 1.0};
@@ -108,27 +144,25 @@ std::vector<double> P1Assembler::mass_values(std::span<const double> weight, boo
       for (int k = 0; k < 3; ++k)
         w[k] = weight[corners_[e][k]];
     const double sum = w[0] + w[1] + w[2];
+    double* block = entries.data() + 9 * e;
     for (int i = 0; i < 3; ++i) {
-      if (slots_[e][3 * i] < 0)
-        continue;
       if (lumped) {
         // Row sum of the consistent matrix: int w phi_i = A/12 (w_i + sum w).
-        values[slots_[e][3 * i + i]] += area / 12.0 * (w[i] + sum);
+        block[3 * i + i] = area / 12.0 * (w[i] + sum);
         continue;
       }
-      for (int j = 0; j < 3; ++j) {
+      for (int j = 0; j < 3; ++j)
         // A/60 * sum_k w_k c_ijk with c = 6 (i=j=k), 2 (two equal), 1 (all different).
-        const double entry =
+        block[3 * i + j] =
             i == j ? area / 30.0 * (2.0 * w[i] + sum) : area / 60.0 * (w[i] + w[j] + sum);
-        values[slots_[e][3 * i + j]] += entry;
-      }
     }
   }
-  return values;
+  return sum_entries(entries);
 }
 
 std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensors) const {
-  std::vector<double> values(columns_.size(), 0.0);
+  std::vector<double> entries(9 * slots_.size(), 0.0);
+#pragma omp parallel for schedule(static)
   for (std::size_t e = 0; e < slots_.size(); ++e) {
     const auto& gradient = gradients_[e];
     Eigen::Matrix3d mean_tensor = Eigen::Matrix3d::Identity();
@@ -140,14 +174,12 @@ std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensor
       mean_tensor /= 3.0;
     }
     for (int i = 0; i < 3; ++i) {
-      if (slots_[e][3 * i] < 0)
-        continue;
       const Eigen::Vector3d flux = mean_tensor * gradient[i];
       for (int j = 0; j < 3; ++j)
-        values[slots_[e][3 * i + j]] += areas_[e] * flux.dot(gradient[j]);
+        entries[9 * e + std::size_t(3 * i + j)] = areas_[e] * flux.dot(gradient[j]);
     }
   }
-  return values;
+  return sum_entries(entries);
 }
 
 } // namespace texsim::pipelines::fem_rd

@@ -8,6 +8,10 @@
 ///   mass       M_ij = int w phi_i phi_j      (w P1: A/60 * {6,2,1} weights per vertex triple)
 ///   stiffness  K_ij = int (T grad phi_i) . grad phi_j   (T P1: area * mean vertex tensor)
 /// Coefficient arrays are indexed by local vertex (owned first, then ghosts; DistributedMesh).
+///
+/// OpenMP threads compute the elements' 3 x 3 blocks, then each value sums its elements' entries
+/// in increasing element order, as one thread adding element after element would: the values
+/// are the same bytes for any number of threads.
 #include "geom/distributed_mesh.hpp"
 #include "par/comm.hpp"
 #include "par/petsc_handle.hpp"
@@ -58,6 +62,13 @@ private:
   /// For each assembly triangle: area and the gradients of its three P1 functions.
   std::vector<double> areas_;
   std::vector<std::array<Eigen::Vector3d, 3>> gradients_;
+  /// For each value: the element entries (9 e + 3 i + j) that add into it, increasing
+  /// (entries [source_offsets_[v], source_offsets_[v + 1]) of sources_).
+  std::vector<std::int64_t> source_offsets_;
+  std::vector<std::int64_t> sources_;
+
+  /// The values from every element's 9 entries (9 per assembly triangle).
+  std::vector<double> sum_entries(const std::vector<double>& entries) const;
 };
 
 } // namespace texsim::pipelines::fem_rd
