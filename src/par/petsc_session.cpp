@@ -1,5 +1,7 @@
 #include "par/petsc_session.hpp"
 
+#include <cblas.h>
+
 #include <sstream>
 
 namespace texsim::par {
@@ -8,6 +10,11 @@ PetscSession::PetscSession(int& argc, char**& argv) {
   // PETSc's own error handler prints a traceback on every rank; texsim reports errors itself.
   TEXSIM_PETSC_CALL(PetscInitialize(&argc, &argv, nullptr, nullptr));
   TEXSIM_PETSC_CALL(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  // PETSc's vector dot products and updates go through OpenBLAS, which splits them over its
+  // threads (OMP_NUM_THREADS by default): the rounding, and so every solver result, would depend
+  // on the thread count. One BLAS thread keeps a run's bytes the same for any OMP_NUM_THREADS;
+  // our own loops carry the threads.
+  openblas_set_num_threads(1);
 }
 
 PetscSession::~PetscSession() {

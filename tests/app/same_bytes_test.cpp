@@ -1,7 +1,8 @@
 // The determinism contract through the binary, on a real scan (the bunny): the same config at the
 // same rank count gives the same bytes in every frame and checkpoint, at -n 2 and at -n 3 (the
 // partition is part of it); and a run killed with SIGKILL after a checkpoint, then restarted,
-// ends with the same bytes as the run that was never killed.
+// ends with the same bytes as the run that was never killed; one and two OpenMP threads write the
+// same bytes.
 #include "support/output_files.hpp"
 #include "support/run_command.hpp"
 
@@ -29,8 +30,9 @@ fs::path scratch(const std::string& name) {
 
 /// config/fem_rd/bunny.yaml, shortened: `steps` steps, frames and checkpoints every 10. Run from
 /// the source tree, where the config's relative mesh path points.
-std::string bunny_run(int ranks, const fs::path& out, int steps, const std::string& extra = "") {
-  return texsim::test::texsim_under_mpirun(ranks) + " " +
+std::string bunny_run(int ranks, const fs::path& out, int steps, const std::string& extra = "",
+                      const std::string& mpirun_options = "") {
+  return texsim::test::texsim_under_mpirun(ranks, mpirun_options) + " " +
          (kSource / "config/fem_rd/bunny.yaml").string() +
          " --quiet --set fem_rd.time.steps=" + std::to_string(steps) +
          " --set output.every=10 --set checkpoint.every=10 --set checkpoint.keep=100"
@@ -65,6 +67,21 @@ TEST_P(FemRdSameBytesOnRealData, TwoRunsWriteTheSameBytes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Ranks, FemRdSameBytesOnRealData, ::testing::Values(2, 3));
+
+// OpenBLAS, under PETSc's vector reductions, would split dot products by the thread count.
+TEST_F(FemRdSameBytesOnRealData, OneAndTwoThreadsWriteTheSameBytes) {
+  const auto dir = scratch("threads");
+  for (const int threads : {1, 2}) {
+    const auto outcome = texsim::test::run_command(
+        bunny_run(1, dir / std::to_string(threads), 20, "",
+                  "--bind-to none -x OMP_NUM_THREADS=" + std::to_string(threads)),
+        kSource);
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+  }
+  ASSERT_GE(texsim::test::files_under(dir / "1").size(), 6u) << "frames, checkpoints, .pvd";
+  EXPECT_EQ(differing_files(dir / "1", dir / "2", everything_but_the_summary),
+            std::vector<std::string>{});
+}
 
 TEST_F(FemRdSameBytesOnRealData, KilledAfterACheckpointAndRestartedEndsWithTheSameBytes) {
   constexpr int kSteps = 30;

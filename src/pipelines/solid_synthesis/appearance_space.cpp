@@ -29,18 +29,6 @@ constexpr int kCovarianceChunks = 16;
 /// |value|)^2 holds float rounding noise (e.g. on the constant coarsest level), not structure.
 constexpr double kRoundingUlps = 16.0;
 
-/// Runs OpenBLAS single-threaded while alive: its calls are made inside our OpenMP regions.
-class SingleThreadedBlas {
-public:
-  SingleThreadedBlas() : previous_(openblas_get_num_threads()) { openblas_set_num_threads(1); }
-  ~SingleThreadedBlas() { openblas_set_num_threads(previous_); }
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
-private:
-  int previous_;
-};
-
 /// The voxels of a stack level whose appearance vectors are computed, enumerated x fastest.
 struct Box {
   std::array<int, 3> lo{};
@@ -327,7 +315,8 @@ NeighbourhoodStatistics clamped_statistics(const vol::ChannelGrid& level, int wi
 
   std::vector<Eigen::MatrixXd> chunk_products(chunks);
   std::vector<Eigen::VectorXd> chunk_sums(chunks);
-  const SingleThreadedBlas single_threaded_blas;
+  // OpenBLAS runs on one thread (par::PetscSession sets it), so calling it from our threads
+  // does not oversubscribe the cores.
 #pragma omp parallel
   {
     RowMatrixF rows(kBlockVoxels, components);
