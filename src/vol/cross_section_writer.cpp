@@ -32,6 +32,39 @@ img::RgbImage side_by_side(const std::vector<img::RgbImage>& pictures, int gap) 
   return combined;
 }
 
+/// Rows top to bottom, left-aligned, on white, `gap` pixels apart.
+img::RgbImage stacked(const std::vector<img::RgbImage>& rows, int gap) {
+  int width = 0, height = gap * (static_cast<int>(rows.size()) - 1);
+  for (const img::RgbImage& row : rows) {
+    width = std::max(width, row.width());
+    height += row.height();
+  }
+  img::RgbImage combined(width, height, img::Rgb::grey(1.0f));
+  int top = 0;
+  for (const img::RgbImage& row : rows) {
+    for (int y = 0; y < row.height(); ++y)
+      for (int x = 0; x < row.width(); ++x)
+        combined.at(x, top + y) = row.at(x, y);
+    top += row.height() + gap;
+  }
+  return combined;
+}
+
+/// The three cross sections at `positions`, side by side.
+img::RgbImage three_sections(const ChannelGrid& colours, const std::array<int, 3>& positions) {
+  std::vector<img::RgbImage> pictures;
+  for (int axis = 0; axis < 3; ++axis)
+    pictures.push_back(cross_section(colours, axis, positions[axis]));
+  return side_by_side(pictures, 4);
+}
+
+void make_directory(const std::filesystem::path& directory) {
+  std::error_code failure;
+  std::filesystem::create_directories(directory, failure);
+  TEXSIM_VERIFY(!failure,
+                "cannot create the directory " << directory.string() << ": " << failure.message());
+}
+
 } // namespace
 
 img::RgbImage cross_section(const ChannelGrid& colours, int axis, int position) {
@@ -70,10 +103,7 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
   for (int axis = 0; axis < 3; ++axis) {
     pictures.push_back(cross_section(colours, axis, positions[axis]));
   }
-  std::error_code failure;
-  std::filesystem::create_directories(directory, failure);
-  TEXSIM_VERIFY(!failure,
-                "cannot create the directory " << directory.string() << ": " << failure.message());
+  make_directory(directory);
   std::vector<std::filesystem::path> paths;
   for (int axis = 0; axis < 3; ++axis) {
     paths.push_back(directory /
@@ -83,6 +113,18 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
   paths.push_back(directory / (basename + "_slices.png"));
   img::write_png(paths.back(), side_by_side(pictures, 4));
   return paths;
+}
+
+std::filesystem::path write_comparison(const std::filesystem::path& path,
+                                       const ChannelGrid& exemplar, const ChannelGrid& result,
+                                       const std::array<int, 3>& result_positions) {
+  const Dims e = exemplar.dims();
+  const img::RgbImage picture = stacked({three_sections(exemplar, {e.nx / 2, e.ny / 2, e.nz / 2}),
+                                         three_sections(result, result_positions)},
+                                        4);
+  make_directory(path.parent_path());
+  img::write_png(path, picture);
+  return path;
 }
 
 } // namespace texsim::vol

@@ -1,7 +1,7 @@
 #pragma once
 /// Axis-aligned cross sections of a volume as PNG pictures, the way solid texture results are
 /// shown (Su 2008 chapter 5): the planes x = const (YZ), y = const (XZ) and z = const (XY), and
-/// the three side by side.
+/// the three side by side; an exemplar's above a result's.
 ///
 /// Orientation: a plane's first remaining axis runs to the right and its second one upwards
 /// (YZ: y right, z up; XZ: x right, z up; XY: x right, y up), so the pictures read like plots.
@@ -30,5 +30,14 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
                                                         const std::string& basename,
                                                         const ChannelGrid& colours,
                                                         const std::array<int, 3>& positions);
+
+/// One picture comparing an exemplar with a synthesized result at the same voxel scale: the
+/// exemplar's three cross sections through its centre (x, y, z planes, left to right) above the
+/// result's three at `result_positions`, rows as in `<basename>_slices.png`, 4 pixels apart on
+/// white. Written atomically (img::write_png), its directory created if missing; returns `path`.
+/// Throws InputError naming the axis if a position is outside the result. Not collective.
+std::filesystem::path write_comparison(const std::filesystem::path& path,
+                                       const ChannelGrid& exemplar, const ChannelGrid& result,
+                                       const std::array<int, 3>& result_positions);
 
 } // namespace texsim::vol

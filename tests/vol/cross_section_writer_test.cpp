@@ -88,6 +88,28 @@ TEST(CrossSectionWriter, WrittenPlanesReadBackAsTheSlicesWithinOneLevel) {
   }
 }
 
+TEST(CrossSectionWriter, ComparisonPutsTheExemplarsCentralSlicesAboveTheResults) {
+  const auto dir = test::scratch_dir("vol_cross_section_comparison");
+  const ChannelGrid exemplar = coordinate_colours(3); // 5 x 6 x 7
+  ChannelGrid result({9, 8, 10}, 3);
+  for (std::size_t v = 0; v < result.voxel_count(); ++v)
+    result.voxel(v)[1] = float(v % 251) / 251.0f;
+  const auto path = write_comparison(dir / "cmp" / "comparison.png", exemplar, result, {3, 2, 1});
+  EXPECT_EQ(path, dir / "cmp" / "comparison.png");
+  const img::RgbImage picture = img::read_image(path);
+  // Rows: exemplar YZ 6 x 7, XZ 5 x 7, XY 5 x 6; result YZ 8 x 10, XZ 9 x 10, XY 9 x 8.
+  ASSERT_EQ(picture.width(), 8 + 4 + 9 + 4 + 9);
+  ASSERT_EQ(picture.height(), 7 + 4 + 10);
+  constexpr float kLevel = 1.0f / 255.0f;
+  for (int k = 0; k < 7; ++k)
+    for (int j = 0; j < 6; ++j) // the exemplar's x = 2 plane, top left
+      EXPECT_LE(difference(picture, j, 6 - k, exemplar, 2, j, k), kLevel);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 9; ++i) // the result's z = 1 plane, bottom right
+      EXPECT_LE(difference(picture, 8 + 4 + 9 + 4 + i, 7 + 4 + 2 + 7 - j, result, i, j, 1), kLevel);
+  EXPECT_EQ(picture.at(0, 8), img::Rgb::grey(1.0f)); // the gap between the rows
+}
+
 TEST(CrossSectionWriter, PositionOutsideTheGridIsAnInputError) {
   const auto dir = test::scratch_dir("vol_cross_sections_errors");
   const ChannelGrid grid = coordinate_colours(3);

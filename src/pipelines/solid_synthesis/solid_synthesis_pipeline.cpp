@@ -9,12 +9,15 @@
 #include "pipelines/solid_synthesis/appearance_space_cache.hpp"
 #include "pipelines/solid_synthesis/level_checkpoint.hpp"
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
+#include "pipelines/solid_synthesis/synthesis_coherence.hpp"
 #include "pipelines/solid_synthesis/synthesis_exemplar.hpp"
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 #include "pipelines/solid_synthesis/synthesis_result.hpp"
+#include "vol/cross_section_writer.hpp"
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -203,6 +206,13 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
 
   auto stage = ctx.timers.scope("output");
   slab->exchange_halo(comm); // the pieces share each next slab's first plane
+  std::optional<LevelJacobians> finest_jacobians;
+  if (field)
+    finest_jacobians = sample_level(*field, slab->size(), slab->layout().z_begin,
+                                    slab->layout().z_end, slab->size());
+  const double incoherent =
+      incoherent_fraction(comm, *slab, finest_jacobians ? &*finest_jacobians : nullptr,
+                          space.colours.dims(), settings_.dims);
   for (const auto& path :
        write_parallel_result(comm, run.output_dir, *slab, settings_.dims, space.colours))
     report.output(path.string());
@@ -212,6 +222,10 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       return;
     for (const auto& path : write_result(run.output_dir, result, settings_.cross_sections))
       report.output(path.string());
+    const auto& d = settings_.dims; // through the centres, like the exemplar's
+    report.output(vol::write_comparison(run.output_dir / "slices" / "comparison.png", space.colours,
+                                        result.colours, {d[0] / 2, d[1] / 2, d[2] / 2})
+                      .string());
     const int largest = *std::max_element(settings_.dims.begin(), settings_.dims.end());
     const int stride = settings_.metric_stride > 0 ? settings_.metric_stride
                                                    : std::max(1, largest / kMetricSamplesPerAxis);
@@ -225,8 +239,10 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     const double histogram = histogram_distance(result.colours, space.colours);
     report.metric("quality", {{"neighbourhood_error", error},
                               {"neighbourhood_error_stride", stride},
-                              {"histogram_distance", histogram}});
-    log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram));
+                              {"histogram_distance", histogram},
+                              {"incoherent_fraction", incoherent}});
+    log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram,
+                       ", incoherent voxels ", incoherent));
   });
   report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});
 }

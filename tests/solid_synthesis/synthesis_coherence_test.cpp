@@ -1,0 +1,58 @@
+// The incoherent-voxel fraction: 0 for a shifted copy of the exemplar (and for a copy stretched by
+// the field's Jacobian), exactly one voxel for a single speck, nearly all for random coordinates,
+// the same at any rank count.
+#include "pipelines/solid_synthesis/synthesis_coherence.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+constexpr int kLevel = 4; // 16^3
+constexpr int kSize = 1 << kLevel;
+const vol::Dims kExemplar{32, 32, 32};
+
+template <class Value>
+double fraction_of(const Value& value, const LevelJacobians* jacobians = nullptr) {
+  const par::Comm comm = par::world();
+  CoordinateSlab slab(level_layout(kLevel, comm.rank, comm.size));
+  const LevelLayout& layout = slab.layout();
+  for (int k = layout.z_begin; k < layout.z_end; ++k)
+    for (int j = 0; j < kSize; ++j)
+      for (int i = 0; i < kSize; ++i)
+        slab.at(i, j, k) = value(i, j, k);
+  slab.exchange_halo(comm);
+  return incoherent_fraction(comm, slab, jacobians, kExemplar, {kSize, kSize, kSize});
+}
+
+TEST(IncoherentFraction, ZeroForACopyOneVoxelForASpeckNearlyAllForNoise) {
+  EXPECT_EQ(fraction_of([](int i, int j, int k) { return Coord{i + 5, j + 30, k + 17}; }), 0.0);
+  EXPECT_EQ(fraction_of([](int i, int j, int k) {
+              return i == 3 && j == 4 && k == 5 ? Coord{20, 20, 20} : Coord{i, j, k};
+            }),
+            1.0 / (kSize * kSize * kSize));
+  const double noise = fraction_of([](int i, int j, int k) {
+    std::mt19937 rng(std::uint32_t(i + kSize * (j + kSize * k)));
+    std::uniform_int_distribution<int> coordinate(0, 31);
+    return Coord{coordinate(rng), coordinate(rng), coordinate(rng)};
+  });
+  EXPECT_GT(noise, 0.99);
+}
+
+TEST(IncoherentFraction, TheJacobianSaysWhatContinuesAVoxel) {
+  // A = 2 I: a coherent anisometric copy steps by 2 exemplar voxels per output voxel.
+  const par::Comm comm = par::world();
+  const LevelLayout layout = level_layout(kLevel, comm.rank, comm.size);
+  LevelJacobians doubled =
+      sample_level(*identity_field(), kSize, layout.z_begin, layout.z_end, kSize);
+  for (auto& a : doubled.jacobian)
+    a *= 2.0f;
+  const auto stretched = [](int i, int j, int k) { return Coord{2 * i, 2 * j, 2 * k}; };
+  EXPECT_EQ(fraction_of(stretched, &doubled), 0.0);
+  EXPECT_EQ(fraction_of(stretched), 1.0); // read isometrically, no neighbour continues
+}
+
+} // namespace
+} // namespace texsim::pipelines::solid_synthesis
