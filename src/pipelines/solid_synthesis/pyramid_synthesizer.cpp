@@ -151,7 +151,8 @@ struct MatchScratch {
 /// are those of the plain loops.
 std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, int k,
                                     const CorrectionStencil& stencil,
-                                    const ExemplarLevelView& exemplar, MatchScratch& scratch) {
+                                    const ExemplarLevelView& exemplar, float incoherent_scale,
+                                    MatchScratch& scratch) {
   const int d = exemplar.channels();
   const int n_candidates = kDiagonalCount * exemplar.k();
   const float** reads = scratch.reads.data();
@@ -200,8 +201,10 @@ std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, in
   Coord best = slab.at(i, j, k);
   float best_distance = std::numeric_limits<float>::infinity();
   for (int n = 0; n < n_candidates; ++n) {
+    // The first entry of a similarity set continues that neighbour's patch.
+    const float scale = n % exemplar.k() == 0 ? 1.0f : incoherent_scale;
     float distance = 0.0f;
-    for (int e = 0; e < kDiagonalCount && distance < best_distance; ++e) {
+    for (int e = 0; e < kDiagonalCount && distance * scale < best_distance; ++e) {
       const float* f = reads[n * kDiagonalCount + e];
       const float* target = neighbourhood + e * d;
       for (int c = 0; c < d; ++c) {
@@ -209,6 +212,7 @@ std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, in
         distance += diff * diff;
       }
     }
+    distance *= scale;
     if (distance < best_distance) {
       best_distance = distance;
       best = candidates[n];
@@ -320,6 +324,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   const int n = layout.size;
   const CorrectionStencil isometric =
       make_stencil(h, Eigen::Matrix3f::Identity(), Eigen::Matrix3f::Identity());
+  const auto incoherent_scale = static_cast<float>(1.0 + options_.coherence);
 
   // One class of the parity lattice: voxels (2a + cx, 2b + cy, 2c + cz); smaller levels have
   // fewer than 2 voxels along an axis, and then classes with c = 1 are empty.
@@ -354,7 +359,8 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
               const CorrectionStencil& stencil =
                   jacobians ? stencils.get(jacobians->a(i, j, k), jacobians->a_inverse(i, j, k))
                             : isometric;
-              const auto [best, distance] = best_match(slab, i, j, k, stencil, exemplar, scratch);
+              const auto [best, distance] =
+                  best_match(slab, i, j, k, stencil, exemplar, incoherent_scale, scratch);
               updates[(static_cast<std::size_t>(plane) * row + b) * row + a] = wrapped(best);
               subpass_distance += distance;
             }

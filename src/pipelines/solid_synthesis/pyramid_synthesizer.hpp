@@ -33,7 +33,11 @@ struct SynthesisOptions {
   int levels = 7;            ///< L: the finest level is 2^L voxels a side
   double jitter = 0.7;       ///< r_l of eq. (2), the same at every level
   int correction_passes = 2; ///< passes of 8 subpasses per level
-  std::uint64_t seed = 1;    ///< key of the jitter hash
+  /// kappa: the distance of a candidate that does not continue its neighbour (similarity-set
+  /// entries after the first) is scaled by 1 + kappa, so near ties go to coherent patches
+  /// (Hertzmann et al.'s and Lefebvre-Hoppe's coherence parameter); 0: the thesis' plain minimum.
+  double coherence = 0.0;
+  std::uint64_t seed = 1; ///< key of the jitter hash
 };
 
 /// How one level went, for the run report.

@@ -70,6 +70,8 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
       synthesis.get<double>("jitter", settings.synthesis.jitter, in_range(0.0, 4.0));
   settings.synthesis.correction_passes =
       synthesis.get<int>("passes", settings.synthesis.correction_passes, int_in_range(0, 16));
+  settings.synthesis.coherence =
+      synthesis.get<double>("coherence", settings.synthesis.coherence, in_range(0.0, 100.0));
   settings.metric_stride = synthesis.get<int>("metric_stride", 0, non_negative_int());
 
   if (section.has("field"))
