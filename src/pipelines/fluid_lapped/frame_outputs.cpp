@@ -7,6 +7,7 @@
 #include "io/parallel_image_data_writer.hpp"
 #include "io/parallel_png_writer.hpp"
 #include "io/parallel_surface_writer.hpp"
+#include "par/collective.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -175,29 +176,32 @@ void FrameOutputs::write_atlas(int k, double time, const AtlasCompositor& compos
   std::vector<std::int64_t> id(texels);
   std::vector<std::int32_t> age(texels, -1);
   std::vector<float> uv(2 * texels, 0.0f); // the samples' own floats
-  auto born = birth.end();
-  for (std::size_t i = 0; i < texels; ++i) {
-    const auto& s = samples[i];
-    id[i] = s.patch;
-    if (s.patch < 0)
-      continue;
-    const auto texel = erosion_.exemplar_texel(Eigen::Vector2d(s.u, s.v));
-    const auto at =
-        std::size_t(texel[1]) * std::size_t(exemplar_.colour.width()) + std::size_t(texel[0]);
-    std::copy_n(&exemplar_rgb8_[3 * at], 3, &colour[3 * i]);
-    if (exemplar_.displacement)
-      std::copy_n(&exemplar_height16_[2 * at], 2, &heights[2 * i]);
-    // Neighbouring texels mostly show the same patch: search only when it changes.
-    if (born == birth.end() || born->id != s.patch) {
-      born = std::lower_bound(birth.begin(), birth.end(), s.patch,
-                              [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
-      TEXSIM_VERIFY(born != birth.end() && born->id == s.patch,
-                    "texel of patch " << s.patch << " that no rank holds");
+  // A texel of a patch no rank holds would be a bug: raised on every rank, so none waits.
+  par::run_collectively(comm_, [&] {
+    auto born = birth.end();
+    for (std::size_t i = 0; i < texels; ++i) {
+      const auto& s = samples[i];
+      id[i] = s.patch;
+      if (s.patch < 0)
+        continue;
+      const auto texel = erosion_.exemplar_texel(Eigen::Vector2d(s.u, s.v));
+      const auto at =
+          std::size_t(texel[1]) * std::size_t(exemplar_.colour.width()) + std::size_t(texel[0]);
+      std::copy_n(&exemplar_rgb8_[3 * at], 3, &colour[3 * i]);
+      if (exemplar_.displacement)
+        std::copy_n(&exemplar_height16_[2 * at], 2, &heights[2 * i]);
+      // Neighbouring texels mostly show the same patch: search only when it changes.
+      if (born == birth.end() || born->id != s.patch) {
+        born = std::lower_bound(birth.begin(), birth.end(), s.patch,
+                                [](const Birth& b, std::int64_t wanted) { return b.id < wanted; });
+        TEXSIM_VERIFY(born != birth.end() && born->id == s.patch,
+                      "texel of patch " << s.patch << " that no rank holds");
+      }
+      age[i] = k - born->frame;
+      uv[2 * i] = s.u;
+      uv[2 * i + 1] = s.v;
     }
-    age[i] = k - born->frame;
-    uv[2 * i] = s.u;
-    uv[2 * i + 1] = s.v;
-  }
+  });
 
   const int root = k % comm_.size;
   const auto own = std::size_t(first_row - fetched_first) * std::size_t(n); // first owned texel
