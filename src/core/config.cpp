@@ -236,17 +236,24 @@ namespace {
 constexpr std::size_t kMaxConfigValues = 100000;
 /// Larger than any hand-written config; keeps a stray multi-gigabyte file out of memory.
 constexpr std::uint64_t kMaxConfigBytes = 16ull << 20;
+/// Deeper than any config; an alias inside its own anchor (`b: &b [*b]`) makes yaml-cpp build a
+/// cycle, whose walk would otherwise overflow the stack before kMaxConfigValues.
+constexpr int kMaxConfigDepth = 64;
 
-/// Refuses a key given twice in one mapping (YAML would silently keep the first) and a tree that
-/// aliases expand beyond kMaxConfigValues. `count` is the number of values visited so far.
+/// Refuses a key given twice in one mapping (YAML would silently keep the first), a tree that
+/// aliases expand beyond kMaxConfigValues and one nested deeper than kMaxConfigDepth. `count` is
+/// the number of values visited so far.
 void check_tree(const YAML::Node& node, const std::string& path, const std::string& source,
-                std::size_t& count) {
+                std::size_t& count, int depth = 0) {
   if (++count > kMaxConfigValues)
     throw InputError(source + ": more than " + std::to_string(kMaxConfigValues) +
                      " values once aliases are expanded; expected a config of plain keys");
+  if (depth > kMaxConfigDepth)
+    throw InputError(source + ": nested deeper than " + std::to_string(kMaxConfigDepth) +
+                     " levels (an alias inside its own anchor?); expected a config of plain keys");
   if (node.IsSequence()) {
     for (const auto& item : node)
-      check_tree(item, path, source, count);
+      check_tree(item, path, source, count, depth + 1);
     return;
   }
   if (!node.IsMap())
@@ -265,7 +272,7 @@ void check_tree(const YAML::Node& node, const std::string& path, const std::stri
       throw InputError(source + ":" + std::to_string(line) + ": key '" + shortened(key_path) +
                        "' given twice (first on line " + std::to_string(seen->second) +
                        "); expected each key once");
-    check_tree(item.second, key_path, source, count);
+    check_tree(item.second, key_path, source, count, depth + 1);
   }
 }
 /// Where configs find their data: ${TEXSIM_DATA} stands for the environment variable TEXSIM_DATA,
