@@ -1,16 +1,27 @@
 #pragma once
-/// A triangle mesh shared by all ranks, with its vertices partitioned for PETSc: vertices are
-/// renumbered so that rank r owns the contiguous range [owner_begin[r], owner_begin[r+1]) of
-/// global ids (PETSc's ownership), and each rank knows the non-owned neighbours of its vertices
-/// (ghosts) and the triangles touching its vertices (what it needs to assemble its rows).
+/// A triangle mesh split over ranks: each rank holds only its part, the vertices it owns plus
+/// a halo of the triangles within kHaloRings rings of them, never the whole surface.
 ///
-/// The whole mesh is kept on every rank (geometry is small next to the solver state and makes
-/// output, curvature and repartitioning simple); the distributed part is the unknowns.
+/// Vertices are renumbered so that rank r owns the contiguous range [owner_begin[r],
+/// owner_begin[r+1]) of global ids (PETSc's ownership). The local mesh numbers its vertices
+/// owned first (global - owned_begin), then the ghosts (non-owned neighbours of owned vertices,
+/// increasing global id: the ghosts of a PETSc ghosted vector), then the rest of the halo
+/// (increasing global id). Its triangles are in increasing global triangle order.
+///
+/// Three rings make per-vertex estimates that look two rings out (curvature with its vertex
+/// normals and boundary fits, the mesh-density function) exact at owned vertices; the ghosts'
+/// values then come from their owners (update_halo), never from an incomplete neighbourhood.
+///
+/// Rank 0 reads or generates the mesh, partitions it and sends each rank its part; that is the
+/// only time one rank holds the whole surface (docs/ARCHITECTURE.md, "Scale-out").
 #include "geom/mesh_topology.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
+#include "par/ghosted_vector.hpp"
 
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -25,62 +36,82 @@ struct PartitionQuality {
   std::int64_t edge_cut = 0;   ///< edges whose vertices are owned by different ranks
   double imbalance = 1.0;      ///< most vertices on one rank over the mean
   std::int64_t ghosts_max = 0; ///< most ghost vertices on one rank
+  std::int64_t halo_max = 0;   ///< most non-owned vertices (ghosts and outer halo) on one rank
 };
 
 class DistributedMesh {
 public:
-  /// Partitions `mesh` (identical on every rank) over `comm`. Collective.
-  DistributedMesh(const par::Comm& comm, const TriangleMesh& mesh, PartitionMethod method);
+  static constexpr int kHaloRings = 3;
 
-  /// The whole mesh in global (PETSc) vertex order.
+  /// Partitions `root_mesh`, read on rank 0 (ignored on the other ranks), over `comm` and gives
+  /// each rank its part. Collective.
+  DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh, PartitionMethod method);
+
+  const par::Comm& comm() const { return comm_; }
+
+  /// This rank's part: owned vertices, ghosts, outer halo (see above).
   const TriangleMesh& mesh() const { return mesh_; }
   const MeshTopology& topology() const { return topology_; }
-  /// Global vertex id -> the vertex's id in the mesh given to the constructor (for random numbers
-  /// and outputs that must not depend on the partition).
+  /// Local vertex -> its id in the mesh given to the constructor (for random numbers, outputs and
+  /// checkpoints that must not depend on the partition).
   const std::vector<std::int64_t>& input_id() const { return input_id_; }
+  std::span<const std::int64_t> owned_input_ids() const {
+    return std::span(input_id_).first(std::size_t(owned_count()));
+  }
 
   std::int32_t owned_begin() const { return owner_begin_[rank_]; }
   std::int32_t owned_end() const { return owner_begin_[rank_ + 1]; }
   std::int32_t owned_count() const { return owned_end() - owned_begin(); }
-  std::int32_t global_count() const { return mesh_.num_vertices(); }
+  std::int32_t global_count() const { return owner_begin_.back(); }
+  std::int64_t global_triangle_count() const { return global_triangles_; }
   /// Owning rank of a global vertex id.
   int owner(std::int32_t vertex) const;
 
-  /// Non-owned vertices adjacent to an owned one, increasing. Local numbering of a ghosted
-  /// vector: owned vertices first (global - owned_begin), then ghosts in this order.
-  const std::vector<std::int32_t>& ghosts() const { return ghosts_; }
-  std::int32_t local_count() const { return owned_count() + std::int32_t(ghosts_.size()); }
-  /// Local index (owned or ghost) of a global vertex, or -1 if this rank does not hold it.
+  /// Global ids of the ghosts, increasing.
+  std::span<const std::int32_t> ghosts() const;
+  /// Owned vertices and ghosts: the local part of a ghosted vector (the outer halo follows them
+  /// in the mesh).
+  std::int32_t local_count() const { return owned_count() + ghost_count_; }
+  /// Local index of a global vertex, or -1 if this rank does not hold it.
   std::int32_t local_index(std::int32_t vertex) const;
-  /// Global id of local index `local`.
-  std::int32_t global_index(std::int32_t local) const;
+  /// Global id of local vertex `local`.
+  std::int32_t global_index(std::int32_t local) const { return global_id_[local]; }
 
-  /// Triangles with at least one owned vertex, increasing: the elements of this rank's rows.
+  /// Local triangles with at least one owned vertex, increasing: the elements of this rank's rows.
   const std::vector<std::int32_t>& assembly_triangles() const { return assembly_triangles_; }
-  /// Triangles whose smallest global vertex is owned: every triangle belongs to exactly one rank
-  /// (for outputs and sums over the surface).
+  /// Local triangles whose smallest global vertex is owned: every triangle of the surface belongs
+  /// to exactly one rank (for outputs and sums over the surface).
   const std::vector<std::int32_t>& owned_triangles() const { return owned_triangles_; }
 
-  /// Moves every vertex (global order, identical on every rank). Topology is unchanged.
+  /// Replaces every local position (owned and halo). Not collective.
   void set_positions(const std::vector<Vec3>& positions);
+  /// Sets the owned positions (xyz per owned vertex) and fetches the halo's from their owners.
+  /// Collective.
+  void set_owned_positions(std::span<const double> owned_xyz);
 
-  /// The whole array in global vertex order on every rank, from each rank's owned values
-  /// (`components` per vertex). Collective.
-  std::vector<double> gather(const par::Comm& comm, std::span<const double> owned,
-                             int components = 1) const;
+  /// Fills the halo entries of `values` (`components` per local mesh vertex) from the owners'
+  /// entries. Collective.
+  void update_halo(std::span<double> values, int components = 1) const;
 
   const PartitionQuality& quality() const { return quality_; }
 
 private:
+  par::GhostedVector& halo_vector(int components) const;
+
+  par::Comm comm_;
   int rank_ = 0;
   TriangleMesh mesh_;
   MeshTopology topology_;
+  std::vector<std::int32_t> global_id_;
   std::vector<std::int64_t> input_id_;
   std::vector<std::int32_t> owner_begin_;
-  std::vector<std::int32_t> ghosts_;
+  std::int32_t ghost_count_ = 0;
+  std::int64_t global_triangles_ = 0;
   std::vector<std::int32_t> assembly_triangles_;
   std::vector<std::int32_t> owned_triangles_;
   PartitionQuality quality_;
+  /// One PETSc ghosted vector per block size in use: the halo exchange plan is built once.
+  mutable std::map<int, std::unique_ptr<par::GhostedVector>> halo_vectors_;
 };
 
 } // namespace texsim::geom

@@ -50,24 +50,35 @@ feature_diffusion_tensors(std::span<const PrincipalCurvature> curvatures,
   return tensors;
 }
 
+LumpedAreaSum lumped_area_sum(const TriangleMesh& mesh, const MeshTopology& topology,
+                              std::int32_t first_vertices) {
+  const Eigen::VectorXd lumped = lumped_mass(mesh);
+  LumpedAreaSum sum;
+  for (std::int32_t v = 0; v < first_vertices; ++v) {
+    if (!topology.vertex_triangles().row(v).empty()) {
+      sum.area += lumped(v);
+      ++sum.vertices;
+    }
+  }
+  return sum;
+}
+
 std::vector<double> mesh_density_function(const TriangleMesh& mesh, const MeshTopology& topology) {
+  const LumpedAreaSum sum = lumped_area_sum(mesh, topology, mesh.num_vertices());
+  if (sum.vertices == 0 || !(sum.area > 0.0)) {
+    return std::vector<double>(static_cast<std::size_t>(mesh.num_vertices()), 1.0);
+  }
+  return mesh_density_function(mesh, topology, sum.area / static_cast<double>(sum.vertices));
+}
+
+std::vector<double> mesh_density_function(const TriangleMesh& mesh, const MeshTopology& topology,
+                                          double mean_lumped_area) {
+  TEXSIM_VERIFY(mean_lumped_area > 0.0,
+                "mesh_density_function: mean lumped area " << mean_lumped_area);
   const std::int32_t num_vertices = mesh.num_vertices();
   const Eigen::VectorXd lumped = lumped_mass(mesh);
   const CsrAdjacency& neighbors = topology.vertex_neighbors();
-
-  double area_sum = 0.0;
-  std::int64_t covered = 0;
-  for (std::int32_t v = 0; v < num_vertices; ++v) {
-    if (!topology.vertex_triangles().row(v).empty()) {
-      area_sum += lumped(v);
-      ++covered;
-    }
-  }
   std::vector<double> density(static_cast<std::size_t>(num_vertices), 1.0);
-  if (covered == 0 || !(area_sum > 0.0)) {
-    return density;
-  }
-  const double mean_area = area_sum / static_cast<double>(covered);
   for (std::int32_t v = 0; v < num_vertices; ++v) {
     if (topology.vertex_triangles().row(v).empty()) {
       continue;
@@ -77,7 +88,7 @@ std::vector<double> mesh_density_function(const TriangleMesh& mesh, const MeshTo
       ring_sum += lumped(w);
     }
     const double ring_mean = ring_sum / static_cast<double>(neighbors.row(v).size() + 1);
-    density[v] = ring_mean / mean_area;
+    density[v] = ring_mean / mean_lumped_area;
   }
   return density;
 }

@@ -61,6 +61,19 @@ feature_diffusion_tensors(std::span<const PrincipalCurvature> curvatures,
 /// a^mu the local time scale and a^(1-mu) the local diffusivity grow with the local cell size.
 std::vector<double> mesh_density_function(const TriangleMesh& mesh, const MeshTopology& topology);
 
+/// The mean lumped area's parts over vertices [0, first_vertices) that have triangles: their sum
+/// and count (a distributed surface adds its owned vertices' parts over the ranks).
+struct LumpedAreaSum {
+  double area = 0.0;
+  std::int64_t vertices = 0;
+};
+LumpedAreaSum lumped_area_sum(const TriangleMesh& mesh, const MeshTopology& topology,
+                              std::int32_t first_vertices);
+
+/// mesh_density_function with the mean lumped area given (> 0).
+std::vector<double> mesh_density_function(const TriangleMesh& mesh, const MeshTopology& topology,
+                                          double mean_lumped_area);
+
 /// Per-vertex weights of the discrete eq. 21: `mass` = a^-mu multiplies the mass matrix entries
 /// (a(x)^-mu phi_i, phi_j), `stiffness` = a^(1-mu) multiplies D in (a^(1-mu) D grad phi_i, grad
 /// phi_j). stiffness / mass = a for every mu.

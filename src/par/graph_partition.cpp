@@ -29,8 +29,10 @@ struct ScotchStrategy {
   ~ScotchStrategy() { SCOTCH_stratExit(&raw); }
 };
 
-std::vector<int> partition_on_this_rank(std::span<const std::int64_t> offsets,
-                                        std::span<const std::int32_t> neighbors, int parts) {
+} // namespace
+
+std::vector<int> scotch_graph_partition_serial(std::span<const std::int64_t> offsets,
+                                               std::span<const std::int32_t> neighbors, int parts) {
   const std::int64_t vertices = std::int64_t(offsets.size()) - 1;
   constexpr std::int64_t kScotchMax = std::numeric_limits<SCOTCH_Num>::max();
   TEXSIM_VERIFY(vertices < kScotchMax && std::int64_t(neighbors.size()) < kScotchMax,
@@ -72,8 +74,6 @@ std::vector<int> partition_on_this_rank(std::span<const std::int64_t> offsets,
   return {part.begin(), part.end()};
 }
 
-} // namespace
-
 std::vector<int> scotch_graph_partition(const Comm& comm, std::span<const std::int64_t> offsets,
                                         std::span<const std::int32_t> neighbors, int parts) {
   TEXSIM_VERIFY(!offsets.empty() && parts >= 1, "scotch_graph_partition: empty graph or no parts");
@@ -82,7 +82,7 @@ std::vector<int> scotch_graph_partition(const Comm& comm, std::span<const std::i
     return part;
   run_collectively(comm, [&] {
     if (comm.is_root())
-      part = partition_on_this_rank(offsets, neighbors, parts);
+      part = scotch_graph_partition_serial(offsets, neighbors, parts);
   });
   MPI_Bcast(part.data(), int(part.size()), MPI_INT, 0, comm.raw);
   return part;

@@ -17,6 +17,11 @@ namespace texsim::par {
 /// self loops). Every rank passes the same graph; the result is the same on every rank and on
 /// every run. Collective. Throws texsim::Error if Scotch fails or the graph exceeds its 32-bit
 /// indices (2^31 vertices or adjacency entries).
+/// The same partition computed on the calling rank alone (for a graph only that rank holds).
+/// Not collective.
+std::vector<int> scotch_graph_partition_serial(std::span<const std::int64_t> offsets,
+                                               std::span<const std::int32_t> neighbors, int parts);
+
 std::vector<int> scotch_graph_partition(const Comm& comm, std::span<const std::int64_t> offsets,
                                         std::span<const std::int32_t> neighbors, int parts);
 

@@ -4,6 +4,7 @@
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
+#include "support/gather_by_id.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,9 +33,13 @@ geom::TriangleMesh smooth(const geom::TriangleMesh& surface, const SmoothingOpti
   for (int n = 0; n < steps; ++n)
     smoother.step();
   // Back to input order, to compare with the input mesh.
+  std::vector<double> xyz;
+  for (std::int32_t v = 0; v < mesh.owned_count(); ++v)
+    xyz.insert(xyz.end(), mesh.mesh().positions[v].data(), mesh.mesh().positions[v].data() + 3);
+  const auto all = test::gather_by_id(comm, mesh.owned_input_ids(), xyz, 3);
   geom::TriangleMesh result = surface;
-  for (std::int32_t g = 0; g < mesh.global_count(); ++g)
-    result.positions[mesh.input_id()[g]] = mesh.mesh().positions[g];
+  for (std::size_t v = 0; v < result.positions.size(); ++v)
+    result.positions[v] = geom::Vec3(all[3 * v], all[3 * v + 1], all[3 * v + 2]);
   return result;
 }
 
@@ -126,7 +131,8 @@ namespace {
 // from it.
 std::pair<double, double> smoothed_step(double function_lambda, int steps) {
   const par::Comm comm = par::world();
-  geom::DistributedMesh mesh(comm, geom::icosphere(4), geom::PartitionMethod::kMorton);
+  const auto sphere = geom::icosphere(4);
+  geom::DistributedMesh mesh(comm, sphere, geom::PartitionMethod::kMorton);
   SmoothingOptions options;
   options.dt = 2e-3;
   options.function_lambda = function_lambda;
@@ -134,16 +140,15 @@ std::pair<double, double> smoothed_step(double function_lambda, int steps) {
   const CounterRng rng(3, 1);
   std::vector<double> owned(mesh.owned_count());
   for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
-    const std::int32_t g = mesh.owned_begin() + v;
-    owned[v] = (mesh.mesh().positions[g].z() > 0) + 0.1 * rng.uniform(-1, 1, mesh.input_id()[g], 0);
+    owned[v] = (mesh.mesh().positions[v].z() > 0) + 0.1 * rng.uniform(-1, 1, mesh.input_id()[v], 0);
   }
   for (int n = 0; n < steps; ++n)
     smoother.smooth_function(owned);
-  const auto f = mesh.gather(comm, owned);
+  const auto f = test::gather_by_id(comm, mesh.owned_input_ids(), owned);
   double jump = 0, noise = 0;
   int pairs = 0, far = 0;
-  for (const auto& edge : mesh.topology().edges()) {
-    const double za = mesh.mesh().positions[edge[0]].z(), zb = mesh.mesh().positions[edge[1]].z();
+  for (const auto& edge : geom::MeshTopology(sphere).edges()) {
+    const double za = sphere.positions[edge[0]].z(), zb = sphere.positions[edge[1]].z();
     if ((za > 0) != (zb > 0)) {
       jump += std::abs(f[edge[0]] - f[edge[1]]);
       ++pairs;

@@ -30,7 +30,7 @@ double decayed_amplitude(int level, double end_time, int steps) {
                         solver.local_values(0).begin() + mesh.owned_count());
   std::vector<double> product(u.size()), square(u.size());
   for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
-    const auto& p = mesh.mesh().positions[mesh.owned_begin() + v];
+    const auto& p = mesh.mesh().positions[v];
     const double y = harmonic(p.x(), p.y(), p.z());
     product[v] = u[v] * y;
     square[v] = y * y;

@@ -2,6 +2,7 @@
 // solves it alone on MPI_COMM_SELF) to the solver tolerance, for both partition methods.
 #include "geom/generators.hpp"
 #include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
+#include "support/gather_by_id.hpp"
 #include "test_models.hpp"
 
 #include <gtest/gtest.h>
@@ -17,11 +18,8 @@ std::vector<double> solve(const par::Comm& comm, const geom::TriangleMesh& surfa
   ReactionDiffusionSolver solver(comm, mesh, model, {0.5, false, 1e-12});
   for (int n = 0; n < steps; ++n)
     solver.step(0.5 * n);
-  const auto all = mesh.gather(comm, solver.local_values(0).first(mesh.owned_count()));
-  std::vector<double> by_input(all.size());
-  for (std::size_t g = 0; g < all.size(); ++g)
-    by_input[mesh.input_id()[g]] = all[g];
-  return by_input;
+  return texsim::test::gather_by_id(comm, mesh.owned_input_ids(),
+                                    solver.local_values(0).first(mesh.owned_count()));
 }
 
 par::Comm self() {

@@ -18,8 +18,7 @@ int spots_after(double s, int steps) {
   ReactionDiffusionSolver solver(comm, mesh, *model, {1.0, false, 1e-10});
   for (int n = 0; n < steps; ++n)
     solver.step(n);
-  const auto a = mesh.gather(comm, solver.local_values(0).first(mesh.owned_count()));
-  return count_regions_above_mean(mesh.topology(), a).regions;
+  return count_regions_above_mean(mesh, solver.local_values(0).first(mesh.owned_count())).regions;
 }
 
 TEST(TuringSpots, SpotCountGrowsWithS) {

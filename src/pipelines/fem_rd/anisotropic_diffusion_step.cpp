@@ -21,9 +21,8 @@ void AnisotropicDiffusionStep::assemble(const geom::DensityWeights& weights,
   const std::int32_t local_count = mesh_.local_count();
   std::vector<double> mass_weight(local_count), stiffness_tensor(9 * std::size_t(local_count));
   for (std::int32_t local = 0; local < local_count; ++local) {
-    const std::int32_t g = mesh_.global_index(local);
-    mass_weight[local] = weights.mass[g];
-    const Eigen::Matrix3d tensor = weights.stiffness[g] * tensors[g];
+    mass_weight[local] = weights.mass[local];
+    const Eigen::Matrix3d tensor = weights.stiffness[local] * tensors[local];
     for (int k = 0; k < 9; ++k)
       stiffness_tensor[9 * local + k] = tensor(k / 3, k % 3);
   }

@@ -22,8 +22,8 @@ public:
                            bool lumped_mass, double rtol);
 
   /// Builds the step's matrices from the density weights and per-vertex tensors (both indexed
-  /// by global vertex, as geom/feature_diffusion.hpp returns them) on the mesh's current
-  /// positions. Collective.
+  /// by local mesh vertex, valid at owned vertices and ghosts) on the mesh's current positions.
+  /// Collective.
   void assemble(const geom::DensityWeights& weights, std::span<const Eigen::Matrix3d> tensors,
                 double dt);
 

@@ -3,17 +3,16 @@
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
-#include "geom/mesh_measures.hpp"
-#include "geom/surface_roughness.hpp"
+#include "geom/distributed_measures.hpp"
 #include "io/pvd_series.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
+#include "par/global_range.hpp"
 #include "pipelines/fem_rd/frame_writer.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
 #include "pipelines/fem_rd/pattern_regions.hpp"
 #include "pipelines/fem_rd/state_checkpoint.hpp"
 
-#include <algorithm>
 #include <cstdio>
 
 namespace texsim::pipelines::fem_rd {
@@ -37,8 +36,7 @@ struct SurfaceMeasures {
 };
 
 SurfaceMeasures measure(const geom::DistributedMesh& mesh) {
-  return {geom::total_area(mesh.mesh()),
-          geom::mean_normal_deviation_deg(mesh.mesh(), mesh.topology())};
+  return {geom::total_area(mesh), geom::mean_normal_deviation_deg(mesh)};
 }
 
 } // namespace
@@ -56,24 +54,30 @@ void FemRdPipeline::run(RunContext& ctx) {
   std::unique_ptr<geom::DistributedMesh> mesh;
   {
     auto stage = ctx.timers.scope("mesh");
+    // Rank 0 builds the surface and sends each rank its part.
     geom::TriangleMesh surface;
     geom::MeshBuildReport built;
-    par::run_collectively(comm,
-                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
-    geom::record_mesh_build(built, report);
+    par::run_collectively(comm, [&] {
+      if (comm.is_root())
+        surface = geom::build_mesh(settings_.mesh, run.seed, &built);
+    });
+    if (comm.is_root()) // the summary and the log are rank 0's
+      geom::record_mesh_build(built, report);
     mesh = std::make_unique<geom::DistributedMesh>(comm, surface, settings_.partition);
+    surface = {};
     const auto& quality = mesh->quality();
     report.metric("vertices", mesh->global_count());
-    report.metric("triangles", surface.num_triangles());
+    report.metric("triangles", mesh->global_triangle_count());
     report.metric(
         "partition",
         {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "scotch"},
          {"edge_cut", quality.edge_cut},
          {"imbalance", quality.imbalance},
-         {"ghosts_max", quality.ghosts_max}});
-    log::info(log::cat("mesh: ", mesh->global_count(), " vertices, ", surface.num_triangles(),
+         {"ghosts_max", quality.ghosts_max},
+         {"halo_max", quality.halo_max}});
+    log::info(log::cat("mesh: ", mesh->global_count(), " vertices, ", mesh->global_triangle_count(),
                        " triangles; partition edge cut ", quality.edge_cut, ", imbalance ",
-                       quality.imbalance));
+                       quality.imbalance, ", halo ", quality.halo_max, " vertices on the largest"));
   }
 
   const SurfaceMeasures initial_surface = measure(*mesh);
@@ -164,16 +168,17 @@ void FemRdPipeline::run(RunContext& ctx) {
   nlohmann::json species = nlohmann::json::object();
   for (std::size_t s = 0; s < solver.species_count(); ++s) {
     const auto& stats = solver.solve_stats(s);
-    const auto all = mesh->gather(comm, solver.local_values(s).first(mesh->owned_count()));
-    const auto regions = count_regions_above_mean(mesh->topology(), all);
+    const auto owned = solver.local_values(s).first(mesh->owned_count());
+    const auto regions = count_regions_above_mean(*mesh, owned);
+    const auto range = par::global_range(comm, owned);
     species[solver.species_names()[s]] = {{"cg_iterations_mean", stats.mean_iterations()},
                                           {"cg_iterations_max", stats.max_iterations},
                                           {"final_residual", stats.last_residual},
                                           {"initial_integral", initial_mass[s]},
                                           {"final_integral", solver.integral(s)},
                                           {"regions_above_mean", regions.regions},
-                                          {"min", *std::min_element(all.begin(), all.end())},
-                                          {"max", *std::max_element(all.begin(), all.end())}};
+                                          {"min", range.min},
+                                          {"max", range.max}};
   }
   report.metric("species", species);
   report.metric("steps", settings_.steps);

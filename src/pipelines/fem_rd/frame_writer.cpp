@@ -12,8 +12,7 @@ std::filesystem::path write_frame(const par::Comm& comm, const geom::Distributed
   std::vector<std::int32_t> piece_locals;
   std::vector<std::int64_t> triangles;
   for (const std::int32_t t : mesh.owned_triangles())
-    for (const std::int32_t global : mesh.mesh().triangles[t]) {
-      const std::int32_t local = mesh.local_index(global);
+    for (const std::int32_t local : mesh.mesh().triangles[t]) {
       if (piece_index[local] < 0) {
         piece_index[local] = std::int32_t(piece_locals.size());
         piece_locals.push_back(local);
@@ -25,12 +24,12 @@ std::filesystem::path write_frame(const par::Comm& comm, const geom::Distributed
   std::vector<std::int64_t> input_id(n);
   std::vector<std::vector<double>> species(solver.species_count(), std::vector<double>(n));
   for (std::size_t p = 0; p < n; ++p) {
-    const std::int32_t global = mesh.global_index(piece_locals[p]);
+    const std::int32_t local = piece_locals[p];
     for (int axis = 0; axis < 3; ++axis)
-      xyz[3 * p + axis] = mesh.mesh().positions[global][axis];
-    input_id[p] = mesh.input_id()[global];
+      xyz[3 * p + axis] = mesh.mesh().positions[local][axis];
+    input_id[p] = mesh.input_id()[local];
     for (std::size_t s = 0; s < species.size(); ++s)
-      species[s][p] = solver.local_values(s)[piece_locals[p]];
+      species[s][p] = solver.local_values(s)[local];
   }
   const std::vector<std::int32_t> owner(mesh.owned_triangles().size(), comm.rank);
   io::SurfacePiece piece{xyz, triangles, {}, {{"rank", 1, owner}}};

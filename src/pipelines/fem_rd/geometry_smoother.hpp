@@ -30,7 +30,8 @@ public:
   GeometrySmoother(const par::Comm& comm, geom::DistributedMesh& mesh,
                    const SmoothingOptions& options);
 
-  /// Moves every vertex by one step; afterwards every rank holds the new positions. Collective.
+  /// Moves every vertex by one step; afterwards each rank holds its part's new positions.
+  /// Collective.
   void step();
 
   /// One edge-preserving smoothing step of a function on the (fixed) surface, with the tensor

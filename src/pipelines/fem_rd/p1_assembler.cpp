@@ -37,14 +37,15 @@ ElementGeometry element_geometry(const geom::Vec3& x0, const geom::Vec3& x1, con
 } // namespace
 
 P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
+  // Rows are the owned vertices, columns global ids (PETSc's numbering), sorted per row.
   const auto& neighbors = mesh.topology().vertex_neighbors();
   const std::int32_t begin = mesh.owned_begin();
   row_offsets_.push_back(0);
-  for (std::int32_t v = begin; v < mesh.owned_end(); ++v) {
-    const auto row = neighbors.row(v);
+  for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
     const std::size_t start = columns_.size();
-    columns_.push_back(v);
-    columns_.insert(columns_.end(), row.begin(), row.end());
+    columns_.push_back(begin + v);
+    for (const std::int32_t w : neighbors.row(v))
+      columns_.push_back(mesh.global_index(w));
     std::sort(columns_.begin() + std::ptrdiff_t(start), columns_.end());
     row_offsets_.push_back(PetscInt(columns_.size()));
   }
@@ -57,13 +58,14 @@ P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
   };
   for (const std::int32_t t : mesh.assembly_triangles()) {
     const auto& tri = mesh.mesh().triangles[t];
+    const std::array<std::int32_t, 3> global{mesh.global_index(tri[0]), mesh.global_index(tri[1]),
+                                             mesh.global_index(tri[2])};
     std::array<std::int64_t, 9> entry{};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        entry[3 * i + j] = slot(tri[i], tri[j]);
+        entry[3 * i + j] = slot(global[i], global[j]);
     slots_.push_back(entry);
-    corners_.push_back(
-        {mesh.local_index(tri[0]), mesh.local_index(tri[1]), mesh.local_index(tri[2])});
+    corners_.push_back({tri[0], tri[1], tri[2]});
   }
   // Invert the slots: each value's element entries, in element order (a counting sort).
   source_offsets_.assign(columns_.size() + 1, 0);

@@ -3,7 +3,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/rng.hpp"
-#include "geom/mesh_measures.hpp"
+#include "geom/distributed_measures.hpp"
 #include "par/petsc_session.hpp"
 
 #include <algorithm>
@@ -155,10 +155,9 @@ void ReactionDiffusionSolver::refresh_vertex_data() {
   local_ids_.resize(n);
   local_xyz_.resize(3 * std::size_t(n));
   for (std::int32_t local = 0; local < n; ++local) {
-    const std::int32_t global = mesh_.global_index(local);
-    local_ids_[local] = mesh_.input_id()[global];
+    local_ids_[local] = mesh_.input_id()[local];
     for (int axis = 0; axis < 3; ++axis)
-      local_xyz_[3 * local + axis] = mesh_.mesh().positions[global][axis];
+      local_xyz_[3 * local + axis] = mesh_.mesh().positions[local][axis];
   }
 }
 
@@ -167,7 +166,7 @@ void ReactionDiffusionSolver::rebuild_geometry() {
   assembler_.update_geometry();
   assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
   stiffness_ = assembler_.stiffness_values({});
-  mean_edge_length_ = geom::mean_edge_length(mesh_.mesh());
+  mean_edge_length_ = geom::mean_edge_length(mesh_);
   if (!preconditioning_.empty())
     assemble_preconditioners();
 }

@@ -11,7 +11,7 @@
 namespace texsim::pipelines::fem_rd {
 
 struct GeometryState {
-  std::vector<geom::Vec3> positions;        ///< current surface, global order
+  std::vector<geom::Vec3> positions;        ///< current surface, local mesh order (owned + halo)
   std::vector<geom::Vec3> matrix_positions; ///< surface the RD matrices were built on
 };
 
@@ -20,8 +20,10 @@ void save_state(const io::CheckpointStore& store, std::int64_t step,
                 const geom::DistributedMesh& mesh, const ReactionDiffusionSolver& solver,
                 const GeometryState& geometry);
 
-/// Restores species values into `solver` and returns the step and the geometry. Throws
-/// InputError naming the file if its species or vertex count do not match this run. Collective.
+/// Restores species values into `solver` and returns the step and the geometry. Each rank reads
+/// an even share of the rows and sends each row, through the rank that the row's input id maps
+/// to, on to the rank that owns the vertex: no rank holds the whole state. Throws InputError naming
+/// the file if its species, vertex count or vertex ids do not match this run. Collective.
 std::int64_t load_state(const io::CheckpointReader& reader, const geom::DistributedMesh& mesh,
                         ReactionDiffusionSolver& solver, GeometryState& geometry);
 

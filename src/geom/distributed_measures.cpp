@@ -1,0 +1,57 @@
+#include "geom/distributed_measures.hpp"
+
+#include "geom/mesh_measures.hpp"
+#include "geom/surface_roughness.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+
+namespace texsim::geom {
+namespace {
+
+/// {sum, count} summed over ranks.
+std::pair<double, double> summed(const DistributedMesh& mesh, double sum, double count) {
+  double local[2] = {sum, count}, total[2];
+  MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm().raw);
+  return {total[0], total[1]};
+}
+
+} // namespace
+
+double total_area(const DistributedMesh& mesh) {
+  const auto& surface = mesh.mesh();
+  double area = 0;
+  for (const std::int32_t t : mesh.owned_triangles()) {
+    const auto& tri = surface.triangles[t];
+    area += triangle_area(surface.positions[tri[0]], surface.positions[tri[1]],
+                          surface.positions[tri[2]]);
+  }
+  return summed(mesh, area, 0).first;
+}
+
+double mean_edge_length(const DistributedMesh& mesh) {
+  const auto& surface = mesh.mesh();
+  double length = 0;
+  for (const std::int32_t t : mesh.owned_triangles()) {
+    const auto& tri = surface.triangles[t];
+    for (int i = 0; i < 3; ++i)
+      length += (surface.positions[tri[(i + 1) % 3]] - surface.positions[tri[i]]).norm();
+  }
+  const auto [sum, edges] = summed(mesh, length, 3.0 * double(mesh.owned_triangles().size()));
+  return edges > 0 ? sum / edges : 0.0;
+}
+
+double mean_normal_deviation_deg(const DistributedMesh& mesh) {
+  // An edge counts on the rank owning its smaller global vertex, which holds both its triangles.
+  const auto& edges = mesh.topology().edges();
+  const auto local = normal_deviation_sum(mesh.mesh(), mesh.topology(), [&](std::int32_t e) {
+    const std::int32_t smaller =
+        std::min(mesh.global_index(edges[e][0]), mesh.global_index(edges[e][1]));
+    return smaller >= mesh.owned_begin() && smaller < mesh.owned_end();
+  });
+  const auto [radians, count] = summed(mesh, local.radians, double(local.edges));
+  return mean_degrees({radians, std::int64_t(count)});
+}
+
+} // namespace texsim::geom

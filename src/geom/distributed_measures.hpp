@@ -1,0 +1,18 @@
+#pragma once
+/// Sums over a distributed surface: each rank adds its owned triangles (or the edges whose smaller
+/// global vertex it owns) and one allreduce combines them. Rounding may differ between rank
+/// counts; it does not differ between runs at one rank count.
+#include "geom/distributed_mesh.hpp"
+
+namespace texsim::geom {
+
+/// Total area of the surface. Collective.
+double total_area(const DistributedMesh& mesh);
+
+/// Mean edge length over every triangle's three edges (as geom::mean_edge_length). Collective.
+double mean_edge_length(const DistributedMesh& mesh);
+
+/// As geom::mean_normal_deviation_deg on the whole surface. Collective.
+double mean_normal_deviation_deg(const DistributedMesh& mesh);
+
+} // namespace texsim::geom
