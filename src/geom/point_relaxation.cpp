@@ -4,8 +4,8 @@
 #include "core/progress.hpp"
 #include "core/rng.hpp"
 #include "geom/mesh_measures.hpp"
+#include "geom/morton_order.hpp"
 #include "geom/random_surface_points.hpp"
-#include "par/morton_partition.hpp"
 
 #include <mpi.h>
 
@@ -17,6 +17,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 namespace texsim::geom {
@@ -306,20 +307,27 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
   const double radius = repulsion_radius(total_area(mesh), count, settings.radius_factor);
   const SurfaceWalker walker(mesh, topology);
 
-  // Every rank places all points and partitions them the same way (both are pure functions of
-  // the ids and the geometry), then keeps its own.
-  const auto all = random_surface_points(mesh, 0, count, seed);
-  std::vector<std::array<double, 3>> initial(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i)
-    initial[i] = {all[i].position.x(), all[i].position.y(), all[i].position.z()};
-  const auto part = par::morton_partition(initial, comm.size);
+  // Each rank places the points of its share of the ids (point id -> the same point at any rank
+  // count), then the ranks sort them along a Morton curve and each keeps an even run: spatially
+  // compact parts, and no rank ever holds all points.
+  const std::int64_t first = count * comm.rank / comm.size;
+  const std::int64_t last = count * (comm.rank + 1) / comm.size;
+  DistributedSurfacePoints placed;
+  placed.points = random_surface_points(mesh, first, last - first, seed);
+  placed.ids.resize(placed.points.size());
+  std::iota(placed.ids.begin(), placed.ids.end(), first);
+  auto sorted = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(placed));
+  // relaxation_sweep wants increasing ids.
+  std::vector<std::size_t> by_id(sorted.ids.size());
+  std::iota(by_id.begin(), by_id.end(), std::size_t{0});
+  std::sort(by_id.begin(), by_id.end(),
+            [&](std::size_t a, std::size_t b) { return sorted.ids[a] < sorted.ids[b]; });
   std::vector<std::int64_t> ids;
   std::vector<SurfacePoint> points;
-  for (std::int64_t id = 0; id < count; ++id)
-    if (part[id] == comm.rank) {
-      ids.push_back(id);
-      points.push_back(all[id]);
-    }
+  for (const std::size_t k : by_id) {
+    ids.push_back(sorted.ids[k]);
+    points.push_back(sorted.points[k]);
+  }
   const double setup_seconds = MPI_Wtime() - setup_start;
 
   std::vector<double> seconds(settings.iterations), mean_move(settings.iterations);

@@ -38,12 +38,6 @@ struct RelaxationReport {
   std::vector<double> mean_move_per_iteration;
 };
 
-/// Points owned by this rank: global ids (increasing) and positions on the surface.
-struct DistributedSurfacePoints {
-  std::vector<std::int64_t> ids;
-  std::vector<SurfacePoint> points;
-};
-
 /// r = radius_factor * sqrt(area / count), model units.
 double repulsion_radius(double area, std::int64_t count, double radius_factor);
 
@@ -69,12 +63,13 @@ relaxation_sweep(const SurfaceWalker& walker, std::span<const std::int64_t> ids,
                  double radius, const RelaxationSettings& settings, double* move_sum = nullptr);
 
 /// Collective over comm. Places `count` random points (random_surface_points with ids
-/// 0..count-1 and `seed`), gives each rank a part by par::morton_partition of the initial
-/// positions (ownership then stays fixed), and runs settings.iterations sweeps of Turk's
-/// relaxation with r = repulsion_radius(total area, count, radius_factor): each sweep refreshes
-/// the halo (exchange_point_halo with the covering_boxes() of the owned points, cells of 3 r,
-/// grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on any
-/// number of ranks and threads. Prints a progress line on rank 0 when the sweeps take long.
+/// 0..count-1 and `seed`; each rank places an even share of the ids), gives each rank an even run
+/// of them along a Morton curve of the initial positions in the mesh's bounding box
+/// (par::distributed_sort; ownership then stays fixed), and runs settings.iterations sweeps of
+/// Turk's relaxation with r = repulsion_radius(total area, count, radius_factor): each sweep
+/// refreshes the halo (exchange_point_halo with the covering_boxes() of the owned points, cells of
+/// 3 r, grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on
+/// any number of ranks and threads. Prints a progress line on rank 0 when the sweeps take long.
 /// `report` (optional, not owned) receives radius and timings, the same on every rank.
 DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,
                                                 const MeshTopology& topology, std::int64_t count,

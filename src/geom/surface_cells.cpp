@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
+#include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
 #include "par/morton_partition.hpp"
 #include "par/record_exchange.hpp"
@@ -75,57 +76,16 @@ SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
 
 void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const TriangleMesh& mesh,
                                              DistributedSurfacePoints relaxed) {
-  // Keys inside the mesh's bounding box, the same on every rank.
-  std::array<double, 3> lo{}, hi{};
-  const Box3 box = Box3::around(mesh.positions);
-  for (int axis = 0; axis < 3; ++axis) {
-    lo[axis] = box.lo[axis];
-    hi[axis] = box.hi[axis];
-  }
-  struct Keyed {
-    std::uint64_t key;
-    std::int64_t point_id;
-  };
-  std::vector<Keyed> local;
-  for (std::size_t i = 0; i < relaxed.points.size(); ++i) {
-    const auto& p = relaxed.points[i].position;
-    local.push_back({par::morton_key({p.x(), p.y(), p.z()}, lo, hi), relaxed.ids[i]});
-  }
-  std::vector<int> counts(comm.size), offsets(comm.size, 0);
-  const int bytes = int(local.size() * sizeof(Keyed));
-  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
-  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
-  std::vector<Keyed> all(std::size_t(offsets.back() + counts.back()) / sizeof(Keyed));
-  MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
-                 comm.raw);
-  std::sort(all.begin(), all.end(), [](const Keyed& a, const Keyed& b) {
-    return std::tie(a.key, a.point_id) < std::tie(b.key, b.point_id);
-  });
-  std::vector<std::int64_t> cell_of_point(all.size());
-  for (std::size_t k = 0; k < all.size(); ++k)
-    cell_of_point[std::size_t(all[k].point_id)] = std::int64_t(k);
-
-  // Equal contiguous runs of cell ids per rank.
-  struct Moved {
-    std::int64_t cell;
-    double xyz[3];
-    std::int32_t triangle;
-  };
-  const std::int64_t n = global_count_;
-  std::vector<std::vector<Moved>> outgoing(comm.size);
-  for (std::size_t i = 0; i < relaxed.points.size(); ++i) {
-    const std::int64_t cell = cell_of_point[std::size_t(relaxed.ids[i])];
-    const auto& p = relaxed.points[i];
-    outgoing[std::size_t(cell * comm.size / n)].push_back(
-        {cell, {p.position.x(), p.position.y(), p.position.z()}, p.triangle});
-  }
-  auto received = par::exchange_records(comm, outgoing);
-  std::sort(received.begin(), received.end(),
-            [](const Moved& a, const Moved& b) { return a.cell < b.cell; });
-  for (const auto& m : received) {
-    ids_.push_back(m.cell);
-    points_.push_back({Vec3(m.xyz[0], m.xyz[1], m.xyz[2]), m.triangle});
-  }
+  // Cell ids follow the points sorted by (Morton key in the mesh's bounding box, point id); the
+  // sort leaves rank r the even run of cells floor(cell p / n) = r, in id order.
+  const auto run = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(relaxed));
+  std::int64_t first = 0, count = std::int64_t(run.ids.size());
+  MPI_Exscan(&count, &first, 1, MPI_INT64_T, MPI_SUM, comm.raw);
+  if (comm.rank == 0)
+    first = 0;
+  for (std::size_t k = 0; k < run.ids.size(); ++k)
+    ids_.push_back(first + std::int64_t(k));
+  points_ = run.points;
 }
 
 void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {

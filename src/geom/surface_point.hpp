@@ -3,6 +3,7 @@
 #include "geom/triangle_mesh.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace texsim::geom {
 
@@ -11,6 +12,12 @@ namespace texsim::geom {
 struct SurfacePoint {
   Vec3 position = Vec3::Zero();
   std::int32_t triangle = -1;
+};
+
+/// Points owned by this rank: global ids and positions on the surface.
+struct DistributedSurfacePoints {
+  std::vector<std::int64_t> ids;
+  std::vector<SurfacePoint> points;
 };
 
 } // namespace texsim::geom

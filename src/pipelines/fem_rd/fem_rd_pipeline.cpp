@@ -128,10 +128,12 @@ void FemRdPipeline::run(RunContext& ctx) {
                      solver.solver_description()));
   par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
   Progress progress("fem_rd", settings_.steps, "steps");
+  std::int64_t smoothing_steps = 0; // in this run (after a restart: since the restart)
   for (std::int64_t step = start; step < settings_.steps; ++step) {
     if (smooths_at(settings_, step)) {
       auto stage = ctx.timers.scope("smoothing");
       smoother->step();
+      ++smoothing_steps;
       geometry.positions = mesh->mesh().positions;
       if (settings_.smooth_functions)
         for (std::size_t s = 0; s < solver.species_count(); ++s) {
@@ -192,7 +194,8 @@ void FemRdPipeline::run(RunContext& ctx) {
                    {"normal_deviation_deg_initial", initial_surface.normal_deviation_deg},
                    {"normal_deviation_deg_final", final_surface.normal_deviation_deg},
                    {"cg_iterations_mean", smoother->solve_stats().mean_iterations()},
-                   {"cg_iterations_max", smoother->solve_stats().max_iterations}});
+                   {"cg_iterations_max", smoother->solve_stats().max_iterations},
+                   {"steps", smoothing_steps}});
   }
   report.output(pvd_path.string());
 }

@@ -258,7 +258,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
                             {"area_max", area_range.max},
                             {"coupling_max", coupling_range.max},
                             {"relaxation_radius", relaxation.radius},
-                            {"relaxation_iterations", settings_.cells.relaxation.iterations}});
+                            {"relaxation_iterations", settings_.cells.relaxation.iterations},
+                            {"relaxation_halo_max", relaxation.max_halo_points}});
     report.metric("partition", {{"method", "morton"},
                                 {"edge_cut", q.edge_cut},
                                 {"imbalance", q.imbalance},

@@ -1,0 +1,48 @@
+#include "geom/morton_order.hpp"
+
+#include "core/error.hpp"
+#include "par/distributed_sort.hpp"
+#include "par/morton_partition.hpp"
+
+#include <tuple>
+
+namespace texsim::geom {
+
+DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Box3& box,
+                                                 DistributedSurfacePoints points) {
+  TEXSIM_VERIFY(points.ids.size() == points.points.size(),
+                "sort_along_morton_curve: " << points.ids.size() << " ids for "
+                                            << points.points.size() << " points");
+  struct Keyed {
+    std::uint64_t key;
+    std::int64_t id;
+    double xyz[3];
+    std::int32_t triangle;
+  };
+  const std::array<double, 3> lo{box.lo.x(), box.lo.y(), box.lo.z()};
+  const std::array<double, 3> hi{box.hi.x(), box.hi.y(), box.hi.z()};
+  std::vector<Keyed> keyed;
+  keyed.reserve(points.ids.size());
+  for (std::size_t i = 0; i < points.ids.size(); ++i) {
+    const Vec3& p = points.points[i].position;
+    keyed.push_back({par::morton_key({p.x(), p.y(), p.z()}, lo, hi),
+                     points.ids[i],
+                     {p.x(), p.y(), p.z()},
+                     points.points[i].triangle});
+  }
+  points = {};
+  const auto run =
+      par::distributed_sort(comm, std::move(keyed), [](const Keyed& a, const Keyed& b) {
+        return std::tie(a.key, a.id) < std::tie(b.key, b.id);
+      });
+  DistributedSurfacePoints sorted;
+  sorted.ids.reserve(run.size());
+  sorted.points.reserve(run.size());
+  for (const auto& k : run) {
+    sorted.ids.push_back(k.id);
+    sorted.points.push_back({Vec3(k.xyz[0], k.xyz[1], k.xyz[2]), k.triangle});
+  }
+  return sorted;
+}
+
+} // namespace texsim::geom

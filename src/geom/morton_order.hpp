@@ -1,0 +1,17 @@
+#pragma once
+/// Surface points spread over ranks, put in order along a Morton (Z-order) curve inside a box
+/// every rank knows (the mesh's bounding box), so that the same point gets the same key whichever
+/// other points a rank holds.
+#include "geom/point_halo.hpp"
+#include "geom/surface_point.hpp"
+#include "par/comm.hpp"
+
+namespace texsim::geom {
+
+/// The points of all ranks sorted by (Morton key in `box`, id), as par::distributed_sort leaves
+/// them: rank r holds the even run of sorted positions floor(position p / n) = r, in curve order.
+/// Ids must be unique over the ranks. Collective.
+DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Box3& box,
+                                                 DistributedSurfacePoints points);
+
+} // namespace texsim::geom
