@@ -19,7 +19,7 @@
 #include "par/petsc_session.hpp"
 #include "pipelines/fem_rd/p1_assembler.hpp"
 #include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <mpi.h>
 #include <nlohmann/json.hpp>
@@ -40,6 +40,7 @@ using texsim::geom::DistributedMesh;
 using texsim::geom::PartitionMethod;
 using texsim::par::Comm;
 using namespace texsim::pipelines::fem_rd;
+namespace rd = texsim::rd;
 
 struct BenchSettings {
   int level = 7;
@@ -114,7 +115,7 @@ template <class Work> void with_pc_variant(const std::string& variant, Work work
 struct LocalVertices {
   std::vector<std::int64_t> ids;
   std::vector<double> xyz;
-  VertexData view() const { return {ids, xyz}; }
+  rd::VertexData view() const { return {ids, xyz}; }
 };
 
 LocalVertices local_vertices(const DistributedMesh& mesh) {
@@ -169,16 +170,16 @@ SolveTimes time_solves(const Comm& comm, int repeats, texsim::par::CgSolver& sol
 /// preconditioner rebuilt (as in every step) and reused, one MatMult with the system matrix
 /// and one ghost update. Collective.
 nlohmann::json measure_species_step(const Comm& comm, const DistributedMesh& mesh,
-                                    const ReactionModel& model,
+                                    const rd::ReactionModel& model,
                                     const std::vector<std::vector<double>>& state,
                                     const BenchSettings& settings) {
   const LocalVertices vertices = local_vertices(mesh);
   const std::vector<std::span<const double>> views(state.begin(), state.end());
-  std::vector<SpeciesCoefficients> coefficients;
+  std::vector<rd::SpeciesCoefficients> coefficients;
   const double coefficients_s = median_time(comm, settings.repeats, [&] {
     model.coefficients(0.0, views, vertices.view(), coefficients);
   });
-  const SpeciesCoefficients& species = coefficients.front();
+  const rd::SpeciesCoefficients& species = coefficients.front();
   std::vector<double> weight(mesh.local_count());
   for (std::size_t v = 0; v < weight.size(); ++v)
     weight[v] = 1.0 - settings.dt * std::min(species.linear[v], 0.0);
@@ -274,7 +275,7 @@ struct RdVariant {
 /// event log (KSPSolve, which includes the preconditioner set-up: the matrix changes every
 /// step). `first_state` receives the local values of every species of the first variant at the
 /// end. Collective.
-std::vector<nlohmann::json> measure_rd_steps(const Comm& comm, const ReactionModel& model,
+std::vector<nlohmann::json> measure_rd_steps(const Comm& comm, const rd::ReactionModel& model,
                                              const BenchSettings& settings,
                                              const std::vector<RdVariant>& variants,
                                              std::vector<std::vector<double>>& first_state) {
@@ -503,7 +504,7 @@ int main(int argc, char** argv) {
   });
   const double meshes_memory_mb = peak_memory_mb(comm);
   auto config = texsim::ConfigDocument::parse(kTuringYaml, "fem_step_bench");
-  const auto model = make_reaction_model(config.root(), 1);
+  const auto model = rd::make_reaction_model(config.root(), 1);
 
   // Scotch is the pipeline's default partition: the headline figures use it. The pieces of a
   // step are timed from the state the default run reached.

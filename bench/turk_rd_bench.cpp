@@ -26,10 +26,10 @@
 #include "par/ghosted_vector.hpp"
 #include "par/morton_partition.hpp"
 #include "par/petsc_session.hpp"
-#include "pipelines/fem_rd/random_substrate.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
-#include "pipelines/fem_rd/turing_spots_model.hpp"
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
+#include "rd/random_substrate.hpp"
+#include "rd/reaction_model.hpp"
+#include "rd/turing_spots_model.hpp"
 
 #include <mpi.h>
 #include <nlohmann/json.hpp>
@@ -55,7 +55,7 @@ using texsim::bench::peak_memory_mb;
 using texsim::bench::timed;
 using texsim::par::Comm;
 namespace geom = texsim::geom;
-namespace fem_rd = texsim::pipelines::fem_rd;
+namespace rd = texsim::rd;
 
 struct BenchSettings {
   std::string mesh = "data/meshes/bunny00.off";
@@ -197,7 +197,7 @@ class FusedTuringStep {
 public:
   /// Collective.
   FusedTuringStep(const Comm& comm, const geom::SurfaceCells& cells,
-                  const fem_rd::TuringSpotsParameters& p, std::uint64_t seed, bool morton_order)
+                  const rd::TuringSpotsParameters& p, std::uint64_t seed, bool morton_order)
       : p_(p), n_(cells.owned_count()) {
     const auto& stencil = cells.neighbors();
     // position_[i]: storage slot of owned cell i (local index, id order).
@@ -218,7 +218,7 @@ public:
     const auto slot = [&](std::int32_t local) { return local < n_ ? position_[local] : local; };
 
     const double mean_area = cells.surface_area() / double(cells.global_count());
-    const fem_rd::RandomSubstrate substrate(seed, p.beta_mean, p.beta_spread);
+    const rd::RandomSubstrate substrate(seed, p.beta_mean, p.beta_spread);
     offsets_.push_back(0);
     for (std::int32_t k = 0; k < n_; ++k) {
       const std::int32_t i = order[k];
@@ -289,7 +289,7 @@ public:
   }
 
 private:
-  fem_rd::TuringSpotsParameters p_;
+  rd::TuringSpotsParameters p_;
   std::int32_t n_;
   std::vector<std::int32_t> position_;
   std::vector<std::int64_t> offsets_;
@@ -302,7 +302,7 @@ private:
 /// state (fused with or without the Morton storage order), maximum over ranks (0 when the fused
 /// kernel reproduces the solver). Collective.
 double fused_vs_solver(const Comm& comm, const geom::SurfaceCells& cells,
-                       const fem_rd::ReactionModel& model, const fem_rd::TuringSpotsParameters& p,
+                       const rd::ReactionModel& model, const rd::TuringSpotsParameters& p,
                        std::uint64_t seed, int steps, bool morton_order) {
   const std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
   texsim::pipelines::turk_rd::CellRdSolver solver(comm, cells, model, scale, kDt);
@@ -335,14 +335,14 @@ double seconds_per_call(const Comm& comm, int repeats, int calls,
 /// The model's coefficients of every owned cell, in the solver's blocks of 256 cells on all
 /// threads (one sweep is what a step evaluates), with the random substrate precomputed (as the
 /// solver passes it) or, when `substrate` is empty, drawn from the ids on every call.
-void coefficients_sweep(const fem_rd::ReactionModel& model, const CellData& data,
+void coefficients_sweep(const rd::ReactionModel& model, const CellData& data,
                         std::span<const double> substrate,
                         const std::vector<std::vector<double>>& state) {
   constexpr std::int32_t kBlock = 256;
   const std::int32_t n = std::int32_t(data.ids.size());
 #pragma omp parallel
   {
-    std::vector<fem_rd::SpeciesCoefficients> out;
+    std::vector<rd::SpeciesCoefficients> out;
     std::vector<std::span<const double>> spans(state.size());
 #pragma omp for schedule(static)
     for (std::int32_t begin = 0; begin < n; begin += kBlock) {
@@ -368,8 +368,7 @@ struct StepPieces {
 
 /// Times the pieces of a Turing step on `cells`, each per step. Collective.
 StepPieces measure_step_pieces(const Comm& comm, const geom::SurfaceCells& cells,
-                               const fem_rd::ReactionModel& model,
-                               const fem_rd::TuringSpotsParameters& p,
+                               const rd::ReactionModel& model, const rd::TuringSpotsParameters& p,
                                const BenchSettings& settings) {
   constexpr int kSweeps = 20;
   const CellData data = cell_data(cells);
@@ -382,7 +381,7 @@ StepPieces measure_step_pieces(const Comm& comm, const geom::SurfaceCells& cells
   });
   pieces.coefficients_drawn_s = seconds_per_call(
       comm, settings.step_repeats, kSweeps, [&] { coefficients_sweep(model, data, {}, state); });
-  const fem_rd::RandomSubstrate substrate(settings.seed, p.beta_mean, p.beta_spread);
+  const rd::RandomSubstrate substrate(settings.seed, p.beta_mean, p.beta_spread);
   std::vector<double> beta(static_cast<std::size_t>(n));
   pieces.substrate_s = seconds_per_call(comm, settings.step_repeats, kSweeps, [&] {
 #pragma omp parallel for schedule(static)
@@ -461,8 +460,8 @@ int main(int argc, char** argv) {
   const double ghosts_total = sum_over_ranks(comm, double(cells->ghost_blocks().size()));
 
   auto config = texsim::ConfigDocument::parse(kTuringYaml, "turk_rd_bench");
-  const auto model = fem_rd::make_reaction_model(config.root(), settings.seed);
-  fem_rd::TuringSpotsParameters turing;
+  const auto model = rd::make_reaction_model(config.root(), settings.seed);
+  rd::TuringSpotsParameters turing;
   turing.s = 0.05;
 
   // The solver and the two fused kernels: warm-up steps, then --step-repeats runs of --steps

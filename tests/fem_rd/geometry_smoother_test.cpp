@@ -147,7 +147,8 @@ std::pair<double, double> smoothed_step(double function_lambda, int steps) {
   const auto f = test::gather_by_id(comm, mesh.owned_input_ids(), owned);
   double jump = 0, noise = 0;
   int pairs = 0, far = 0;
-  for (const auto& edge : geom::MeshTopology(sphere).edges()) {
+  const geom::MeshTopology topology(sphere);
+  for (const auto& edge : topology.edges()) {
     const double za = sphere.positions[edge[0]].z(), zb = sphere.positions[edge[1]].z();
     if ((za > 0) != (zb > 0)) {
       jump += std::abs(f[edge[0]] - f[edge[1]]);

@@ -2,26 +2,27 @@
 // Reaction models defined by the tests themselves, so the solver is checked against known
 // solutions independently of the built-in models.
 #include "core/rng.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <functional>
 
 namespace texsim::pipelines::fem_rd::test {
 
 /// du/dt = Laplace u (C2 = C3 = 0), from u0(x, y, z).
-class HeatModel : public ReactionModel {
+class HeatModel : public rd::ReactionModel {
 public:
   explicit HeatModel(std::function<double(double, double, double)> initial)
       : initial_(std::move(initial)) {}
   std::vector<std::string> species() const override { return {"u"}; }
-  std::vector<std::vector<double>> initial_state(const VertexData& vertices) const override {
+  std::vector<std::vector<double>> initial_state(const rd::VertexData& vertices) const override {
     std::vector<double> u(vertices.size());
     for (std::size_t v = 0; v < u.size(); ++v)
       u[v] = initial_(vertices.xyz[3 * v], vertices.xyz[3 * v + 1], vertices.xyz[3 * v + 2]);
     return {u};
   }
-  void coefficients(double, const std::vector<std::span<const double>>& state, const VertexData&,
-                    std::vector<SpeciesCoefficients>& out) const override {
+  void coefficients(double, const std::vector<std::span<const double>>& state,
+                    const rd::VertexData&,
+                    std::vector<rd::SpeciesCoefficients>& out) const override {
     out.resize(1);
     out[0].diffusion = 1.0;
     out[0].linear.assign(state[0].size(), 0.0);
@@ -34,18 +35,19 @@ private:
 
 /// Fisher-KPP, du/dt = D Laplace u + u (1 - u), split as C2 = 1 - u^n, C3 = 0, from random
 /// initial values keyed by vertex id: nonlinear, and its result depends on every vertex.
-class FisherModel : public ReactionModel {
+class FisherModel : public rd::ReactionModel {
 public:
   std::vector<std::string> species() const override { return {"u"}; }
-  std::vector<std::vector<double>> initial_state(const VertexData& vertices) const override {
+  std::vector<std::vector<double>> initial_state(const rd::VertexData& vertices) const override {
     const CounterRng rng(11, 5);
     std::vector<double> u(vertices.size());
     for (std::size_t v = 0; v < u.size(); ++v)
       u[v] = rng.uniform(std::uint64_t(vertices.ids[v]), 0);
     return {u};
   }
-  void coefficients(double, const std::vector<std::span<const double>>& state, const VertexData&,
-                    std::vector<SpeciesCoefficients>& out) const override {
+  void coefficients(double, const std::vector<std::span<const double>>& state,
+                    const rd::VertexData&,
+                    std::vector<rd::SpeciesCoefficients>& out) const override {
     out.resize(1);
     out[0].diffusion = 0.01;
     out[0].linear.resize(state[0].size());

@@ -14,7 +14,7 @@ int spots_after(double s, int steps) {
   const par::Comm comm = par::world();
   const geom::DistributedMesh mesh(comm, geom::icosphere(4, 12.0), geom::PartitionMethod::kMorton);
   auto config = ConfigDocument::parse("type: turing_spots\ns: " + std::to_string(s), "test");
-  const auto model = make_reaction_model(config.root(), 1);
+  const auto model = rd::make_reaction_model(config.root(), 1);
   ReactionDiffusionSolver solver(comm, mesh, *model, {1.0, false, 1e-10});
   for (int n = 0; n < steps; ++n)
     solver.step(n);

@@ -15,9 +15,9 @@
 namespace texsim::pipelines::turk_rd {
 namespace {
 
-std::unique_ptr<fem_rd::ReactionModel> model_from(const std::string& yaml) {
+std::unique_ptr<rd::ReactionModel> model_from(const std::string& yaml) {
   auto config = ConfigDocument::parse(yaml, "test");
-  return fem_rd::make_reaction_model(config.root(), 11);
+  return rd::make_reaction_model(config.root(), 11);
 }
 
 geom::SurfaceCells make_cells(const par::Comm& comm, const geom::TriangleMesh& mesh,
@@ -137,22 +137,22 @@ TEST(CellRdSolver, DtAboveTheStabilityLimitRunsAsStableSubsteps) {
 
 /// Turing's spot system seen only through the ReactionModel interface, so the solver cannot fuse
 /// it into its stencil loop and takes the general path.
-class OpaqueModel final : public fem_rd::ReactionModel {
+class OpaqueModel final : public rd::ReactionModel {
 public:
-  explicit OpaqueModel(const fem_rd::ReactionModel& inner) : inner_(inner) {}
+  explicit OpaqueModel(const rd::ReactionModel& inner) : inner_(inner) {}
   std::vector<std::string> species() const override { return inner_.species(); }
-  std::vector<std::vector<double>> initial_state(const fem_rd::VertexData& v) const override {
+  std::vector<std::vector<double>> initial_state(const rd::VertexData& v) const override {
     return inner_.initial_state(v);
   }
   void coefficients(double t, const std::vector<std::span<const double>>& state,
-                    const fem_rd::VertexData& vertices,
-                    std::vector<fem_rd::SpeciesCoefficients>& out) const override {
+                    const rd::VertexData& vertices,
+                    std::vector<rd::SpeciesCoefficients>& out) const override {
     inner_.coefficients(t, state, vertices, out);
   }
   double lower_bound(std::size_t s) const override { return inner_.lower_bound(s); }
 
 private:
-  const fem_rd::ReactionModel& inner_;
+  const rd::ReactionModel& inner_;
 };
 
 TEST(CellRdSolver, FusedSpotKernelEqualsTheGeneralPath) {

@@ -18,7 +18,7 @@ PatternShapes pattern_after(const geom::TriangleMesh& mesh, std::int64_t cells_c
   settings.count = cells_count;
   const geom::SurfaceCells cells(comm, mesh, geom::MeshTopology(mesh), 4, settings);
   auto config = ConfigDocument::parse(model_yaml, "test");
-  const auto model = fem_rd::make_reaction_model(config.root(), 4);
+  const auto model = rd::make_reaction_model(config.root(), 4);
   const std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
   CellRdSolver solver(comm, cells, *model, scale, 1.0);
   for (int n = 0; n < steps; ++n)

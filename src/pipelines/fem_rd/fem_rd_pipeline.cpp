@@ -43,7 +43,7 @@ SurfaceMeasures measure(const geom::DistributedMesh& mesh) {
 
 void FemRdPipeline::configure(const ConfigSection& section, const RunSettings& run) {
   settings_ = read_fem_rd_settings(section);
-  model_ = make_reaction_model(section.section("model"), run.seed);
+  model_ = rd::make_reaction_model(section.section("model"), run.seed);
 }
 
 void FemRdPipeline::run(RunContext& ctx) {

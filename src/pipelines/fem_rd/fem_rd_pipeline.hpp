@@ -8,8 +8,8 @@
 /// output.every steps and checkpoints every checkpoint.every steps), finish (metrics).
 #include "geom/mesh_memory.hpp"
 #include "pipelines/fem_rd/fem_rd_settings.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
 #include "pipelines/pipeline.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <memory>
 
@@ -28,7 +28,7 @@ public:
 
 private:
   FemRdSettings settings_;
-  std::unique_ptr<ReactionModel> model_;
+  std::unique_ptr<rd::ReactionModel> model_;
 };
 
 } // namespace texsim::pipelines::fem_rd

@@ -18,7 +18,7 @@ constexpr std::uint32_t kProbeStream = 0x7e57;
 
 ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                  const geom::DistributedMesh& mesh,
-                                                 const ReactionModel& model,
+                                                 const rd::ReactionModel& model,
                                                  const RdOptions& options)
     : comm_(comm), mesh_(mesh), model_(model), options_(options), assembler_(mesh),
       names_(model.species()) {
@@ -33,7 +33,7 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
   TEXSIM_PETSC_CALL(VecSet(ones_, 1.0));
   rebuild_geometry();
 
-  const auto initial = model.initial_state(VertexData{local_ids_, local_xyz_});
+  const auto initial = model.initial_state(rd::VertexData{local_ids_, local_xyz_});
   TEXSIM_VERIFY(initial.size() == names_.size(), "model gave " << initial.size()
                                                                << " initial fields for "
                                                                << names_.size() << " species");
@@ -55,8 +55,8 @@ std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
   std::vector<std::span<const double>> state;
   for (const auto& field : fields_)
     state.push_back(field->local());
-  std::vector<SpeciesCoefficients> coefficients;
-  model_.coefficients(0.0, state, VertexData{local_ids_, local_xyz_}, coefficients);
+  std::vector<rd::SpeciesCoefficients> coefficients;
+  model_.coefficients(0.0, state, rd::VertexData{local_ids_, local_xyz_}, coefficients);
   std::vector<double> diffusion;
   for (const auto& c : coefficients)
     diffusion.push_back(c.diffusion);
@@ -175,7 +175,7 @@ void ReactionDiffusionSolver::step(double t) {
   std::vector<std::span<const double>> state;
   for (const auto& field : fields_)
     state.push_back(field->local());
-  const VertexData vertices{local_ids_, local_xyz_};
+  const rd::VertexData vertices{local_ids_, local_xyz_};
   model_.coefficients(t, state, vertices, coefficients_);
   TEXSIM_VERIFY(coefficients_.size() == fields_.size(), "model gave coefficients for "
                                                             << coefficients_.size() << " of "

@@ -19,7 +19,7 @@
 #include "par/cg_solver.hpp"
 #include "par/ghosted_vector.hpp"
 #include "pipelines/fem_rd/p1_assembler.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -43,7 +43,7 @@ class ReactionDiffusionSolver {
 public:
   /// Sets every species to the model's initial state. Collective.
   ReactionDiffusionSolver(const par::Comm& comm, const geom::DistributedMesh& mesh,
-                          const ReactionModel& model, const RdOptions& options);
+                          const rd::ReactionModel& model, const RdOptions& options);
 
   /// Recomputes mass and stiffness after the mesh moved. Collective.
   void rebuild_geometry();
@@ -89,7 +89,7 @@ private:
 
   par::Comm comm_;
   const geom::DistributedMesh& mesh_;
-  const ReactionModel& model_;
+  const rd::ReactionModel& model_;
   RdOptions options_;
   P1Assembler assembler_;
   std::vector<std::string> names_;
@@ -101,7 +101,7 @@ private:
   par::PetscVec rhs_, explicit_part_, ones_;
   std::vector<std::int64_t> local_ids_; ///< input-mesh id of each local vertex
   std::vector<double> local_xyz_;       ///< position of each local vertex
-  std::vector<SpeciesCoefficients> coefficients_;
+  std::vector<rd::SpeciesCoefficients> coefficients_;
   std::vector<double> diffusion_; ///< per species
   par::Preconditioner preconditioner_ = par::Preconditioner::kJacobi;
   int probe_iterations_ = -1; ///< Jacobi probe iterations (-1: no probe)

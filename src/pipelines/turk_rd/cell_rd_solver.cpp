@@ -1,7 +1,7 @@
 #include "pipelines/turk_rd/cell_rd_solver.hpp"
 
 #include "core/error.hpp"
-#include "pipelines/fem_rd/turing_spots_model.hpp"
+#include "rd/turing_spots_model.hpp"
 
 #include <mpi.h>
 #include <omp.h>
@@ -23,9 +23,8 @@ static_assert(kBlock % kLanes == 0);
 } // namespace
 
 CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
-                           const fem_rd::ReactionModel& model,
-                           std::span<const double> diffusion_scale, double dt,
-                           double stability_safety)
+                           const rd::ReactionModel& model, std::span<const double> diffusion_scale,
+                           double dt, double stability_safety)
     : comm_(comm), cells_(cells), model_(model), names_(model.species()), dt_(dt), substep_dt_(dt),
       frozen_(std::size_t(cells.owned_count()), 0) {
   TEXSIM_VERIFY(stability_safety > 0 && stability_safety <= 1,
@@ -56,7 +55,7 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
     xyz_.insert(xyz_.end(), p.position.data(), p.position.data() + 3);
 
   // The rates and bounds do not depend on the state: read them from one evaluation.
-  std::vector<fem_rd::SpeciesCoefficients> probe;
+  std::vector<rd::SpeciesCoefficients> probe;
   const std::vector<std::int64_t> probe_id{0};
   const std::vector<double> probe_xyz{0, 0, 0};
   const auto probe_initial = model.initial_state({probe_id, probe_xyz});
@@ -87,7 +86,7 @@ CellRdSolver::CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cell
   }
 
   substrate_ = model.substrate({ids_, xyz_});
-  turing_spots_ = dynamic_cast<const fem_rd::TuringSpotsModel*>(&model);
+  turing_spots_ = model.as_turing_spots();
   scratch_.resize(std::size_t(omp_get_max_threads()));
   for (auto& scratch : scratch_) {
     scratch.state.assign(std::size_t(species), std::vector<double>(kBlock));

@@ -14,8 +14,8 @@
 #include "geom/surface_cells.hpp"
 #include "par/comm.hpp"
 #include "par/ghosted_vector.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
-#include "pipelines/fem_rd/turing_spots_model.hpp"
+#include "rd/reaction_model.hpp"
+#include "rd/turing_spots_model.hpp"
 
 #include <memory>
 #include <span>
@@ -30,8 +30,8 @@ public:
   /// above max_stable_dt() is split into substeps() explicit substeps of at most
   /// `stability_safety` * max_stable_dt() each. Collective.
   CellRdSolver(const par::Comm& comm, const geom::SurfaceCells& cells,
-               const fem_rd::ReactionModel& model, std::span<const double> diffusion_scale,
-               double dt, double stability_safety = kDefaultStabilitySafety);
+               const rd::ReactionModel& model, std::span<const double> diffusion_scale, double dt,
+               double stability_safety = kDefaultStabilitySafety);
 
   /// Fraction of the stability limit a substep takes when dt exceeds the limit.
   static constexpr double kDefaultStabilitySafety = 0.9;
@@ -70,7 +70,7 @@ private:
   struct BlockScratch {
     std::vector<std::vector<double>> state;           ///< [species][cell of the block]
     std::vector<std::span<const double>> state_spans; ///< views of `state` for the model
-    std::vector<fem_rd::SpeciesCoefficients> coefficients;
+    std::vector<rd::SpeciesCoefficients> coefficients;
     std::vector<double> laplacian; ///< for run-time species counts
   };
   /// With `Pointwise` a model type with vertex_coefficients() (Turing spots), the reaction is
@@ -89,7 +89,7 @@ private:
 
   const par::Comm& comm_;
   const geom::SurfaceCells& cells_;
-  const fem_rd::ReactionModel& model_;
+  const rd::ReactionModel& model_;
   std::vector<std::string> names_;
   double dt_;
   double max_stable_dt_ = 0;
@@ -110,7 +110,7 @@ private:
   std::unique_ptr<par::GhostedVector> current_, next_;
   std::vector<BlockScratch> scratch_; ///< one per OpenMP thread
   /// The model when it is Turing's spot system, whose reaction the step fuses into the stencil.
-  const fem_rd::TuringSpotsModel* turing_spots_ = nullptr;
+  const rd::TuringSpotsModel* turing_spots_ = nullptr;
 };
 
 } // namespace texsim::pipelines::turk_rd

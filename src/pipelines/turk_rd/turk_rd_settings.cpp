@@ -139,7 +139,7 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
     StageSettings stage;
     stage.name = name;
     stage.key_path = entry.path();
-    stage.model = fem_rd::make_reaction_model(entry.section("model"), seed);
+    stage.model = rd::make_reaction_model(entry.section("model"), seed);
     stage.species = stage.model->species();
     stage.steps = entry.get<std::int64_t>("steps", stage.steps, [](std::int64_t n) {
       return n >= 0 ? std::string() : std::string("a non-negative step count");

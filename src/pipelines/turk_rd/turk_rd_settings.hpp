@@ -11,8 +11,8 @@
 ///     render: {colors: [[0.93, 0.78, 0.52], [0.1, 0.07, 0.05]], radius: 2, bump: 0.01}
 #include "geom/mesh_source.hpp"
 #include "geom/surface_cells.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
 #include "pipelines/turk_rd/pattern_colormap.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <memory>
 #include <optional>
@@ -35,7 +35,7 @@ struct InitiatorSettings {
 /// One system of a cascade.
 struct StageSettings {
   std::string name;
-  std::shared_ptr<fem_rd::ReactionModel> model;
+  std::shared_ptr<rd::ReactionModel> model;
   std::vector<std::string> species;
   std::int64_t steps = 10000;
   double dt = 1.0;

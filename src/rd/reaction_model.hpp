@@ -7,7 +7,7 @@
 ///   (du/dt, v) = -(C0 C1 grad u, grad v) + (C2 u, v) + (C3, v),
 /// which also allows C0 = 0 (a species that does not diffuse, e.g. delta = 0 in Fig. 5 (a)).
 #include "core/config.hpp"
-#include "pipelines/fem_rd/random_substrate.hpp"
+#include "rd/random_substrate.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -16,7 +16,9 @@
 #include <string>
 #include <vector>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
+
+class TuringSpotsModel;
 
 /// Per-vertex data a model may use: stable ids (for counter-based random numbers that do not depend
 /// on the partition) and positions (for user expressions of x, y, z).
@@ -66,6 +68,10 @@ public:
   /// Whether coefficients() may run on several threads at once (on disjoint vertex blocks).
   virtual bool thread_safe() const { return true; }
 
+  /// The model as Turing's spot system, whose per-vertex reaction explicit kernels inline
+  /// (turk_rd's cell solver); null for every other model.
+  virtual const TuringSpotsModel* as_turing_spots() const { return nullptr; }
+
   /// The model's per-vertex random substrate (beta), if it has one.
   virtual const RandomSubstrate* random_substrate() const { return nullptr; }
 
@@ -89,4 +95,4 @@ void resize_coefficients(std::vector<SpeciesCoefficients>& out, std::size_t spec
 /// per-vertex substrate (beta). Throws InputError naming the key for bad values or expressions.
 std::unique_ptr<ReactionModel> make_reaction_model(const ConfigSection& model, std::uint64_t seed);
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -1,13 +1,13 @@
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 
 #include "core/error.hpp"
-#include "pipelines/fem_rd/expression_model.hpp"
-#include "pipelines/fem_rd/fitzhugh_nagumo_model.hpp"
-#include "pipelines/fem_rd/forced_oscillator_model.hpp"
-#include "pipelines/fem_rd/meinhardt_stripes_model.hpp"
-#include "pipelines/fem_rd/turing_spots_model.hpp"
+#include "rd/expression_model.hpp"
+#include "rd/fitzhugh_nagumo_model.hpp"
+#include "rd/forced_oscillator_model.hpp"
+#include "rd/meinhardt_stripes_model.hpp"
+#include "rd/turing_spots_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 void resize_coefficients(std::vector<SpeciesCoefficients>& out, std::size_t species,
                          std::size_t vertices) {
@@ -137,4 +137,4 @@ std::unique_ptr<ReactionModel> make_reaction_model(const ConfigSection& model, s
   throw Error("unhandled reaction model type");
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 /// CounterRng streams of the reaction models (one seed, independent uses).
 inline constexpr std::uint32_t kSubstrateStream = 0x5244;       ///< beta of the built-in models
@@ -31,4 +31,4 @@ private:
   double spread_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -19,10 +19,10 @@
 /// Split: a: C2 = -(a^n)^2, C3 = a^n - b^n (the growth term a is explicit so that C2 <= 0 and the
 /// step matrix M + tau (L - C2 M) stays symmetric positive definite for every time step);
 /// b: C2 = -s s1, C3 = s (a^n - s0 - beta').
-#include "pipelines/fem_rd/random_substrate.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/random_substrate.hpp"
+#include "rd/reaction_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 struct FitzHughNagumoParameters {
   double s = 0.05;              ///< time-scale ratio of the inhibitor b (Fig. 4: 0.025 ... 0.05)
@@ -53,4 +53,4 @@ private:
   RandomSubstrate beta_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

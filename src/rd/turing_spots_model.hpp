@@ -4,10 +4,10 @@
 ///   db/dt = s (a b - b - beta) + D_b Laplace b,
 /// with beta a random substrate per vertex (12 +/- 0.1). The semi-implicit split is the paper's
 /// (eqs. (14)-(15), Fig. 2): a: C2 = -s b^n, C3 = 16 s; b: C2 = s (a^n - 1), C3 = -s beta.
-#include "pipelines/fem_rd/random_substrate.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/random_substrate.hpp"
+#include "rd/reaction_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 /// Parameters, defaulting to Fig. 3 (c) of the paper (s = 0.025 and 0.0375 give Fig. 3 (a), (b)).
 struct TuringSpotsParameters {
@@ -45,10 +45,11 @@ public:
   double lower_bound(std::size_t) const override { return 0.0; }
 
   const RandomSubstrate* random_substrate() const override { return &beta_; }
+  const TuringSpotsModel* as_turing_spots() const override { return this; }
 
 private:
   TuringSpotsParameters parameters_;
   RandomSubstrate beta_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

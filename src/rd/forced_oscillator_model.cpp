@@ -1,8 +1,8 @@
-#include "pipelines/fem_rd/forced_oscillator_model.hpp"
+#include "rd/forced_oscillator_model.hpp"
 
 #include <cmath>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 ForcedOscillatorModel::ForcedOscillatorModel(const ForcedOscillatorParameters& parameters,
                                              std::uint64_t seed)
@@ -38,4 +38,4 @@ void ForcedOscillatorModel::coefficients(double t,
   }
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -1,8 +1,8 @@
-#include "pipelines/fem_rd/expression_model.hpp"
+#include "rd/expression_model.hpp"
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
-#include "pipelines/fem_rd/random_substrate.hpp"
+#include "rd/random_substrate.hpp"
 
 #include <muParser.h>
 
@@ -10,7 +10,7 @@
 #include <cctype>
 #include <set>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 namespace {
 
@@ -199,4 +199,4 @@ void ExpressionModel::coefficients(double t, const std::vector<std::span<const d
   }
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -1,6 +1,6 @@
-#include "pipelines/fem_rd/turing_spots_model.hpp"
+#include "rd/turing_spots_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 TuringSpotsModel::TuringSpotsModel(const TuringSpotsParameters& parameters, std::uint64_t seed)
     : parameters_(parameters), beta_(seed, parameters.beta_mean, parameters.beta_spread) {}
@@ -29,4 +29,4 @@ void TuringSpotsModel::coefficients(double /*t*/, const std::vector<std::span<co
   }
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -1,6 +1,6 @@
-#include "pipelines/fem_rd/fitzhugh_nagumo_model.hpp"
+#include "rd/fitzhugh_nagumo_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 FitzHughNagumoModel::FitzHughNagumoModel(const FitzHughNagumoParameters& parameters,
                                          std::uint64_t seed)
@@ -33,4 +33,4 @@ void FitzHughNagumoModel::coefficients(double /*t*/,
   }
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

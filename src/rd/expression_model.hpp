@@ -9,14 +9,14 @@
 ///   - noise: uniform in [-1, 1) per vertex, from the counter-based generator keyed by the vertex
 ///   id
 ///     and the species index, constant in time (a random substrate like the paper's beta).
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 struct ExpressionSpecies {
   std::string name;         ///< variable name in expressions
@@ -56,4 +56,4 @@ private:
   std::unique_ptr<Evaluator> evaluator_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

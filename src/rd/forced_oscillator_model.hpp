@@ -15,10 +15,10 @@
 /// Split as in Fig. 2: u: C0 = 1, C2 = (1 + Gamma cos(omega_f t)) u^n v^n - (d + 1),
 /// C3 = c + beta; v: C0 = delta (0 is allowed: v does not diffuse), C2 = -(u^n)^2, C3 = d u^n.
 /// Start: u = c + beta, v = d / c (the unforced steady state, displaced by the substrate).
-#include "pipelines/fem_rd/random_substrate.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/random_substrate.hpp"
+#include "rd/reaction_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 /// Parameters, defaulting to Fig. 5 (b) of the paper (delta = 0 and 5 give Fig. 5 (a), (c)).
 struct ForcedOscillatorParameters {
@@ -48,4 +48,4 @@ private:
   RandomSubstrate beta_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

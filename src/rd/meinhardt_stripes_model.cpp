@@ -1,8 +1,8 @@
-#include "pipelines/fem_rd/meinhardt_stripes_model.hpp"
+#include "rd/meinhardt_stripes_model.hpp"
 
 #include <algorithm>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 MeinhardtStripesModel::MeinhardtStripesModel(const MeinhardtStripesParameters& parameters,
                                              std::uint64_t seed)
@@ -48,4 +48,4 @@ void MeinhardtStripesModel::coefficients(double /*t*/,
   }
 }
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

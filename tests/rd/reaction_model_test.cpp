@@ -1,8 +1,8 @@
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/reaction_model.hpp"
 #include "support/input_error.hpp"
 
 #include "core/config.hpp"
-#include "pipelines/fem_rd/random_substrate.hpp"
+#include "rd/random_substrate.hpp"
 #include "support/test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include <random>
 #include <string>
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 namespace {
 
 constexpr std::uint64_t kSeed = 20240611;
@@ -376,9 +376,9 @@ TEST(Factory, ReadsOnlyTheChosenModelsKeys) {
 }
 
 } // namespace
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 namespace {
 
 /// Rates C2 u + C3 of every species at every vertex for the given state.
@@ -421,4 +421,4 @@ TEST(MeinhardtStripes, RatesAreMeinhardtsEquations) {
 }
 
 } // namespace
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd

@@ -12,10 +12,10 @@
 /// instability from the uniform steady state g = beta / (2 alpha), r = 2 c g^3 / beta, s = g.
 /// The split into eq. (2)'s linear part (C2, the decay) and source (C3) serves both the FEM
 /// solver and the explicit cell solver.
-#include "pipelines/fem_rd/random_substrate.hpp"
-#include "pipelines/fem_rd/reaction_model.hpp"
+#include "rd/random_substrate.hpp"
+#include "rd/reaction_model.hpp"
 
-namespace texsim::pipelines::fem_rd {
+namespace texsim::rd {
 
 /// Defaults: the constants of Turk's stripe program (alpha 0.04, beta 0.06, gamma 0.04,
 /// D_g 0.009, D_s 0.2, c 0.01, substrate 1 +/- 0.005).
@@ -51,4 +51,4 @@ private:
   RandomSubstrate substrate_;
 };
 
-} // namespace texsim::pipelines::fem_rd
+} // namespace texsim::rd
