@@ -1,6 +1,7 @@
 #include "io/checkpoint_store.hpp"
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/hdf5_attribute.hpp"
 #include "io/hdf5_file.hpp"
@@ -99,6 +100,13 @@ ResolvedCheckpoint CheckpointStore::resolve(const std::string& spec) const {
 
 CheckpointReader CheckpointStore::open(const std::filesystem::path& path) const {
   return CheckpointReader(comm_, path, config_hash_);
+}
+
+CheckpointReader CheckpointStore::resolve_for_restart(const std::string& spec) const {
+  auto found = resolve(spec);
+  for (const auto& skipped : found.skipped)
+    log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
+  return std::move(found.reader);
 }
 
 } // namespace texsim::io

@@ -61,6 +61,10 @@ public:
   /// checkpoint once in full.
   ResolvedCheckpoint resolve(const std::string& spec) const;
 
+  /// resolve() for a restart: logs a warning (rank 0) for every newer checkpoint it skipped and
+  /// returns the reader. Collective.
+  CheckpointReader resolve_for_restart(const std::string& spec) const;
+
   /// Opens a checkpoint and verifies it: format version, config hash (a mismatch is an
   /// InputError "<file>: written by a different configuration ..."), and every dataset's checksum
   /// (a mismatch, a truncated or an unreadable file is an InputError "<file>: corrupt

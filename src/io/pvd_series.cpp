@@ -7,12 +7,19 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <regex>
 #include <sstream>
 
 namespace texsim::io {
+
+std::string step_name(std::int64_t step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%09lld", static_cast<long long>(step));
+  return name;
+}
 namespace {
 
 /// Shortest text that reads back as exactly `value`.

@@ -4,11 +4,15 @@
 /// Only rank 0 touches the file; every rank holds the same entries.
 #include "par/comm.hpp"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace texsim::io {
+
+/// "step_000000042": the name of step 42's files in a series (zero-padded, so they sort by step).
+std::string step_name(std::int64_t step);
 
 class PvdSeries {
 public:

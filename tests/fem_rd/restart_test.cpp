@@ -7,6 +7,7 @@
 // rank.
 #include "io/checkpoint_store.hpp"
 #include "par/comm.hpp"
+#include "support/output_files.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 #include "support/vtk_array_type.hpp"
@@ -33,12 +34,6 @@ namespace fs = std::filesystem;
 constexpr std::int64_t kMiddleStep = 20; // checkpoint.every
 constexpr std::int64_t kFinalStep = 40;
 
-fs::path checkpoint_path(const fs::path& out, std::int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%09lld.h5", static_cast<long long>(step));
-  return out / "checkpoints" / name;
-}
-
 /// smoke.yaml with the smoothing running through step 29 and the RD matrices rebuilt every 7
 /// steps, so that the middle checkpoint falls inside the smoothing and between two rebuilds: the
 /// restart must restore both the surface and the one the matrices were built on. The default
@@ -53,22 +48,10 @@ test::CommandOutcome run_smoke(int ranks, const fs::path& out, const std::string
                            out.string() + " " + options);
 }
 
-nlohmann::json read_summary(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in);
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// A's state as a killed job leaves it after the middle checkpoint, in `copy`.
 void copy_killed_after_middle_checkpoint(const fs::path& run, const fs::path& copy) {
   fs::copy(run, copy, fs::copy_options::recursive);
-  ASSERT_TRUE(fs::remove(checkpoint_path(copy, kFinalStep)));
+  ASSERT_TRUE(fs::remove(test::checkpoint_file(copy, kFinalStep)));
   ASSERT_TRUE(fs::remove(copy / "summary.json"));
 }
 
@@ -81,7 +64,7 @@ struct FinalState {
 };
 
 FinalState read_final_state(const fs::path& out) {
-  const auto hash = read_summary(out)["config_hash"].get<std::string>();
+  const auto hash = test::read_summary(out)["config_hash"].get<std::string>();
   const io::CheckpointStore store(par::world(), out / "checkpoints", hash, 3);
   const auto reader = store.resolve("latest").reader;
   FinalState state;
@@ -126,18 +109,11 @@ double relative_difference(const FinalState& a, const FinalState& b, const std::
   return difference / scale;
 }
 
-int rd_step_calls(const nlohmann::json& summary) {
-  for (const auto& stage : summary["stages"])
-    if (stage["name"] == "rd_step")
-      return stage["calls"].get<int>();
-  return -1;
-}
-
 void expect_restarted_at_middle(const test::CommandOutcome& outcome, const fs::path& out) {
-  const std::string line = "restarted from " + checkpoint_path(out, kMiddleStep).string() +
+  const std::string line = "restarted from " + test::checkpoint_file(out, kMiddleStep).string() +
                            " at step " + std::to_string(kMiddleStep);
   EXPECT_NE(outcome.output.find(line), std::string::npos) << outcome.output;
-  EXPECT_EQ(rd_step_calls(read_summary(out)), kFinalStep - kMiddleStep);
+  EXPECT_EQ(test::stage_calls(test::read_summary(out), "rd_step"), kFinalStep - kMiddleStep);
 }
 
 /// Runs A once for all tests; each test continues its own copy.
@@ -149,8 +125,8 @@ protected:
   }
   void SetUp() override {
     ASSERT_EQ(uninterrupted_.exit_code, 0) << uninterrupted_.output;
-    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kMiddleStep)));
-    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kFinalStep)));
+    ASSERT_TRUE(fs::exists(test::checkpoint_file(run_a(), kMiddleStep)));
+    ASSERT_TRUE(fs::exists(test::checkpoint_file(run_a(), kFinalStep)));
   }
   static fs::path run_a() { return dir_ / "a"; }
   static fs::path dir() { return dir_; }
@@ -180,7 +156,7 @@ TEST_F(FemRdRestart, AtTheSameRankCountEndsBitIdentical) {
         << " relative to its largest value";
   }
   // The frame series continues where it stopped: the same entries as the uninterrupted run.
-  EXPECT_EQ(read_text(b / "fem_rd.pvd"), read_text(run_a() / "fem_rd.pvd"));
+  EXPECT_EQ(test::read_text(b / "fem_rd.pvd"), test::read_text(run_a() / "fem_rd.pvd"));
   EXPECT_TRUE(test::temporary_files_under(b).empty());
 }
 
@@ -218,7 +194,7 @@ TEST_F(FemRdRestart, AtAnotherRankCountAgreesToSolverTolerance) {
 TEST_F(FemRdRestart, WithAnotherConfigIsRefusedNamingTheCheckpoint) {
   const fs::path d = dir() / "d";
   ASSERT_NO_FATAL_FAILURE(copy_killed_after_middle_checkpoint(run_a(), d));
-  const auto middle = checkpoint_path(d, kMiddleStep);
+  const auto middle = test::checkpoint_file(d, kMiddleStep);
   const auto written = fs::last_write_time(middle);
   const auto refused = run_smoke(2, d, "--restart --set fem_rd.model.s=0.03");
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
@@ -227,7 +203,7 @@ TEST_F(FemRdRestart, WithAnotherConfigIsRefusedNamingTheCheckpoint) {
       << refused.output;
   EXPECT_EQ(fs::last_write_time(middle), written);
   EXPECT_FALSE(fs::exists(d / "summary.json"));
-  EXPECT_FALSE(fs::exists(checkpoint_path(d, kFinalStep)));
+  EXPECT_FALSE(fs::exists(test::checkpoint_file(d, kFinalStep)));
 }
 
 } // namespace

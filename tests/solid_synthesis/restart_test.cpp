@@ -5,6 +5,7 @@
 // same bytes in every piece) and at -n 3, ends with the same volumes too; and the second run
 // reads its appearance space and similarity sets from the cache the first one wrote. The texsim
 // runs are child jobs (support/run_command.hpp); this program itself runs on one rank.
+#include "support/output_files.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 #include "vol/vdb_io.hpp"
@@ -35,27 +36,9 @@ test::CommandOutcome run_smoke(int ranks, const fs::path& out, const fs::path& c
                            options);
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-fs::path checkpoint_path(const fs::path& out, int level) {
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%09d.h5", level);
-  return out / "checkpoints" / name;
-}
-
 /// "<prefix><ranks>": a run directory name per rank count.
 std::string with_ranks(std::string prefix, int ranks) {
   return prefix.append(std::to_string(ranks));
-}
-
-nlohmann::json read_summary(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in);
 }
 
 /// The .vdb (written by rank 0) and the parallel .pvti volumes (one piece per rank, so other
@@ -73,9 +56,10 @@ void expect_same_volumes(const fs::path& a, const fs::path& b, bool same_ranks) 
     EXPECT_TRUE(grid_a == grid_b) << volume << " differs between " << a << " and " << b;
     if (!same_ranks)
       continue;
-    EXPECT_TRUE(read_bytes(a / (volume + ".pvti")) == read_bytes(b / (volume + ".pvti")));
+    EXPECT_TRUE(test::read_text(a / (volume + ".pvti")) == test::read_text(b / (volume + ".pvti")));
     for (const auto& piece : fs::directory_iterator(a / volume))
-      EXPECT_TRUE(read_bytes(piece.path()) == read_bytes(b / volume / piece.path().filename()))
+      EXPECT_TRUE(test::read_text(piece.path()) ==
+                  test::read_text(b / volume / piece.path().filename()))
           << piece.path().filename() << " differs between " << a << " and " << b;
   }
 }
@@ -112,19 +96,19 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
     const fs::path copy = dir_ / with_ranks("killed_n", ranks);
     fs::copy(dir_ / "n2", copy, fs::copy_options::recursive);
     for (int level = kLastKeptLevel + 1; level <= kFinestLevel; ++level)
-      ASSERT_TRUE(fs::remove(checkpoint_path(copy, level)));
+      ASSERT_TRUE(fs::remove(test::checkpoint_file(copy, level)));
     for (const char* file :
          {"summary.json", "solid_synthesis.vdb", "solid_synthesis.pvti",
           "exemplar_coordinates.pvti", "solid_synthesis", "exemplar_coordinates"})
       ASSERT_GT(fs::remove_all(copy / file), 0u) << file;
     const auto outcome = run_smoke(ranks, copy, dir_ / "cache", "--restart");
     ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
-    EXPECT_NE(
-        outcome.output.find("restarted from " + checkpoint_path(copy, kLastKeptLevel).string()),
-        std::string::npos)
+    EXPECT_NE(outcome.output.find("restarted from " +
+                                  test::checkpoint_file(copy, kLastKeptLevel).string()),
+              std::string::npos)
         << outcome.output;
     // Only the levels after the checkpoint were synthesized again.
-    EXPECT_EQ(read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
+    EXPECT_EQ(test::read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
     expect_same_volumes(dir_ / "n2", copy, ranks == 2);
   }
 }
@@ -133,9 +117,9 @@ TEST_F(SolidSynthesisRuns, SecondRunReadsFeaturesAndSimilaritySetsFromTheCache) 
   const fs::path out = dir_ / "cached";
   const auto outcome = run_smoke(2, out, dir_ / "cache");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
-  EXPECT_EQ(read_summary(out)["metrics"]["exemplar"]["features"], "cache");
+  EXPECT_EQ(test::read_summary(out)["metrics"]["exemplar"]["features"], "cache");
   for (const auto& [level, source] :
-       read_summary(out)["metrics"]["similarity_sets"]["levels"].items())
+       test::read_summary(out)["metrics"]["similarity_sets"]["levels"].items())
     EXPECT_EQ(source, "cache") << "stack level " << level;
   expect_same_volumes(dir_ / "n2", out, true);
 }

@@ -1,8 +1,10 @@
 #include "support/output_files.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 namespace texsim::test {
 namespace fs = std::filesystem;
@@ -31,6 +33,31 @@ std::vector<std::string> differing_files(const fs::path& reference, const fs::pa
     if (compared(file) && !same_bytes(reference / file, other / file))
       differing.push_back(file);
   return differing;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+nlohmann::json read_summary(const fs::path& out) {
+  std::ifstream in(out / "summary.json");
+  return nlohmann::json::parse(in);
+}
+
+fs::path checkpoint_file(const fs::path& out, std::int64_t step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%09lld.h5", static_cast<long long>(step));
+  return out / "checkpoints" / name;
+}
+
+int stage_calls(const nlohmann::json& summary, const std::string& name) {
+  for (const auto& stage : summary["stages"])
+    if (stage["name"] == name)
+      return stage["calls"].get<int>();
+  return -1;
 }
 
 } // namespace texsim::test

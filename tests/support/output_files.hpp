@@ -1,5 +1,8 @@
 #pragma once
-/// Comparing what two runs wrote, file by file and byte by byte.
+/// Comparing what two runs wrote, file by file and byte by byte, and reading what one run wrote.
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -18,5 +21,17 @@ bool same_bytes(const std::filesystem::path& a, const std::filesystem::path& b);
 std::vector<std::string> differing_files(const std::filesystem::path& reference,
                                          const std::filesystem::path& other,
                                          const std::function<bool(const std::string&)>& compared);
+
+/// A file's whole content.
+std::string read_text(const std::filesystem::path& path);
+
+/// <out>/summary.json, parsed.
+nlohmann::json read_summary(const std::filesystem::path& out);
+
+/// <out>/checkpoints/step_<step>.h5, as io::CheckpointStore names it.
+std::filesystem::path checkpoint_file(const std::filesystem::path& out, std::int64_t step);
+
+/// How often a run entered its stage `name` (summary.json "stages"), or -1 if it never did.
+int stage_calls(const nlohmann::json& summary, const std::string& name);
 
 } // namespace texsim::test

@@ -7,6 +7,7 @@
 // exit code 2, naming the checkpoint, and writes nothing.
 #include "io/checkpoint_store.hpp"
 #include "par/comm.hpp"
+#include "support/output_files.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 #include "support/vtk_array_type.hpp"
@@ -29,12 +30,6 @@ namespace fs = std::filesystem;
 constexpr std::int64_t kKilledAfter = 20;
 constexpr std::int64_t kFinalStep = 80;
 
-fs::path checkpoint_path(const fs::path& out, std::int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%09lld.h5", static_cast<long long>(step));
-  return out / "checkpoints" / name;
-}
-
 test::CommandOutcome run_smoke(int ranks, const fs::path& out, const std::string& options = "") {
   return test::run_command(test::texsim_under_mpirun(ranks) + " " +
                            (test::source_dir() / "config/turk_rd/smoke.yaml").string() +
@@ -42,22 +37,10 @@ test::CommandOutcome run_smoke(int ranks, const fs::path& out, const std::string
                            out.string() + " " + options);
 }
 
-nlohmann::json read_summary(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in);
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 void copy_killed(const fs::path& run, const fs::path& copy) {
   fs::copy(run, copy, fs::copy_options::recursive);
   for (std::int64_t step = kKilledAfter + 20; step <= kFinalStep; step += 20)
-    ASSERT_TRUE(fs::remove(checkpoint_path(copy, step)));
+    ASSERT_TRUE(fs::remove(test::checkpoint_file(copy, step)));
   ASSERT_TRUE(fs::remove(copy / "summary.json"));
 }
 
@@ -69,7 +52,7 @@ struct FinalState {
 };
 
 FinalState read_final_state(const fs::path& out) {
-  const auto hash = read_summary(out)["config_hash"].get<std::string>();
+  const auto hash = test::read_summary(out)["config_hash"].get<std::string>();
   const io::CheckpointStore store(par::world(), out / "checkpoints", hash, 10);
   const auto reader = store.resolve("latest").reader;
   FinalState state;
@@ -105,13 +88,6 @@ void expect_same_bits(const FinalState& a, const FinalState& b) {
   }
 }
 
-int rd_step_calls(const nlohmann::json& summary) {
-  for (const auto& stage : summary["stages"])
-    if (stage["name"] == "rd_step")
-      return stage["calls"].get<int>();
-  return -1;
-}
-
 class TurkRdRestart : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
@@ -120,8 +96,8 @@ protected:
   }
   void SetUp() override {
     ASSERT_EQ(uninterrupted_.exit_code, 0) << uninterrupted_.output;
-    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kKilledAfter)));
-    ASSERT_TRUE(fs::exists(checkpoint_path(run_a(), kFinalStep)));
+    ASSERT_TRUE(fs::exists(test::checkpoint_file(run_a(), kKilledAfter)));
+    ASSERT_TRUE(fs::exists(test::checkpoint_file(run_a(), kFinalStep)));
   }
   static fs::path run_a() { return dir_ / "a"; }
   static fs::path dir() { return dir_; }
@@ -137,14 +113,15 @@ TEST_F(TurkRdRestart, RestartAcrossTheStageBoundaryEndsBitIdentical) {
     ASSERT_NO_FATAL_FAILURE(copy_killed(run_a(), b));
     const auto restarted = run_smoke(ranks, b, "--restart");
     ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
-    EXPECT_NE(restarted.output.find("restarted from " + checkpoint_path(b, kKilledAfter).string()),
-              std::string::npos)
+    EXPECT_NE(
+        restarted.output.find("restarted from " + test::checkpoint_file(b, kKilledAfter).string()),
+        std::string::npos)
         << restarted.output;
-    EXPECT_EQ(rd_step_calls(read_summary(b)), kFinalStep - kKilledAfter);
+    EXPECT_EQ(test::stage_calls(test::read_summary(b), "rd_step"), kFinalStep - kKilledAfter);
     expect_same_bits(read_final_state(run_a()), read_final_state(b));
     // The frame series continue where they stopped: the same entries as the uninterrupted run.
     for (const char* series : {"turk_rd_surface.pvd", "turk_rd_cells.pvd", "turk_rd_bump.pvd"})
-      EXPECT_EQ(read_text(b / series), read_text(run_a() / series)) << series;
+      EXPECT_EQ(test::read_text(b / series), test::read_text(run_a() / series)) << series;
     EXPECT_TRUE(test::temporary_files_under(b).empty());
   }
 }
@@ -173,7 +150,7 @@ TEST_F(TurkRdRestart, ThreeRanksGiveTheSameBitsAsTwo) {
 TEST_F(TurkRdRestart, WithAnotherConfigIsRefusedNamingTheCheckpoint) {
   const fs::path d = dir() / "changed";
   ASSERT_NO_FATAL_FAILURE(copy_killed(run_a(), d));
-  const auto killed_at = checkpoint_path(d, kKilledAfter);
+  const auto killed_at = test::checkpoint_file(d, kKilledAfter);
   const auto written = fs::last_write_time(killed_at);
   const auto refused = run_smoke(2, d, "--restart --set turk_rd.stages.spots.model.s=0.06");
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
@@ -182,7 +159,7 @@ TEST_F(TurkRdRestart, WithAnotherConfigIsRefusedNamingTheCheckpoint) {
       << refused.output;
   EXPECT_EQ(fs::last_write_time(killed_at), written);
   EXPECT_FALSE(fs::exists(d / "summary.json"));
-  EXPECT_FALSE(fs::exists(checkpoint_path(d, kFinalStep)));
+  EXPECT_FALSE(fs::exists(test::checkpoint_file(d, kFinalStep)));
 }
 
 } // namespace

@@ -13,16 +13,8 @@
 #include "pipelines/fem_rd/pattern_regions.hpp"
 #include "pipelines/fem_rd/state_checkpoint.hpp"
 
-#include <cstdio>
-
 namespace texsim::pipelines::fem_rd {
 namespace {
-
-std::string frame_name(std::int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%09lld", static_cast<long long>(step));
-  return name;
-}
 
 /// Smoothing steps happen at the start of RD steps 0, every, 2*every, ... until `steps` are done.
 bool smooths_at(const FemRdSettings& settings, std::int64_t step) {
@@ -98,16 +90,14 @@ void FemRdPipeline::run(RunContext& ctx) {
     for (std::size_t s = 0; s < solver_owner->species_count(); ++s)
       initial_mass.push_back(solver_owner->integral(s));
     if (run.restart) {
-      const auto found = store.resolve(*run.restart);
-      for (const auto& skipped : found.skipped)
-        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-      start = load_state(found.reader, *mesh, *solver_owner, geometry);
+      const auto reader = store.resolve_for_restart(*run.restart);
+      start = load_state(reader, *mesh, *solver_owner, geometry);
       mesh->set_positions(geometry.matrix_positions);
       solver_owner->rebuild_geometry();
       mesh->set_positions(geometry.positions);
       series = std::make_unique<io::PvdSeries>(
           io::PvdSeries::resume(comm, pvd_path, double(start) * settings_.rd.dt));
-      log::info(log::cat("restarted from ", found.reader.path().string(), " at step ", start));
+      log::info(log::cat("restarted from ", reader.path().string(), " at step ", start));
     } else {
       series = std::make_unique<io::PvdSeries>(comm, pvd_path);
     }
@@ -116,7 +106,7 @@ void FemRdPipeline::run(RunContext& ctx) {
   const auto write_output = [&](std::int64_t step) {
     auto stage = ctx.timers.scope("output");
     const auto frame =
-        write_frame(comm, *mesh, solver, run.output_dir / "frames", frame_name(step));
+        write_frame(comm, *mesh, solver, run.output_dir / "frames", io::step_name(step));
     series->add(double(step) * settings_.rd.dt,
                 std::filesystem::relative(frame, run.output_dir).string());
   };

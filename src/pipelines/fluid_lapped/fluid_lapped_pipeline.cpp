@@ -204,12 +204,9 @@ void FluidLappedPipeline::run(RunContext& ctx) {
                             run.checkpoint_keep);
   PatchState state;
   if (run.restart) {
-    const auto found = store.resolve(*run.restart);
-    for (const auto& skipped : found.skipped)
-      log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-    par::run_collectively(comm, [&] { state = load_patch_state(comm, found.reader, inputs_hash); });
-    log::info(
-        log::cat("restarted from ", found.reader.path().string(), " after frame ", state.frame));
+    const auto reader = store.resolve_for_restart(*run.restart);
+    par::run_collectively(comm, [&] { state = load_patch_state(comm, reader, inputs_hash); });
+    log::info(log::cat("restarted from ", reader.path().string(), " after frame ", state.frame));
   }
   const int first = state.frame + 1;
   FrameOutputs outputs(comm, run.output_dir, exemplar, erosion,

@@ -153,13 +153,10 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   {
     auto stage = ctx.timers.scope("synthesis");
     if (run.restart) {
-      const auto found = store.resolve(*run.restart);
-      for (const auto& skipped : found.skipped)
-        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-      slab =
-          std::make_unique<CoordinateSlab>(load_level(comm, found.reader, exemplar.content_hash));
-      log::info(log::cat("restarted from ", found.reader.path().string(), " after level ",
-                         level_of(*slab)));
+      const auto reader = store.resolve_for_restart(*run.restart);
+      slab = std::make_unique<CoordinateSlab>(load_level(comm, reader, exemplar.content_hash));
+      log::info(
+          log::cat("restarted from ", reader.path().string(), " after level ", level_of(*slab)));
     }
     par::CheckpointClock clock(comm, run.checkpoint_every, run.checkpoint_minutes);
     int stop_signal = 0;

@@ -188,15 +188,12 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   std::optional<SynthesisPosition> resumed;
   std::int64_t classes_done = 0;
   if (run.restart) {
-    const auto found = store.resolve(*run.restart);
-    for (const auto& skipped : found.skipped)
-      log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-    par::run_collectively(
-        comm, [&] { resumed = load_synthesis(found.reader, pyramid, identity, colours); });
-    classes_done = found.reader.step();
-    log::info(log::cat("restarted from ", found.reader.path().string(), " at level ",
-                       resumed->level, ", pass ", int(resumed->pass), ", class ",
-                       resumed->next_class));
+    const auto reader = store.resolve_for_restart(*run.restart);
+    par::run_collectively(comm,
+                          [&] { resumed = load_synthesis(reader, pyramid, identity, colours); });
+    classes_done = reader.step();
+    log::info(log::cat("restarted from ", reader.path().string(), " at level ", resumed->level,
+                       ", pass ", int(resumed->pass), ", class ", resumed->next_class));
   } else {
     colours = random_start(pyramid, exemplar, run.seed);
   }

@@ -13,16 +13,9 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <cstdio>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
-
-std::string frame_name(std::int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%09lld", static_cast<long long>(step));
-  return name;
-}
 
 std::unique_ptr<io::PvdSeries> open_series(const par::Comm& comm, const std::filesystem::path& path,
                                            std::optional<double> restart_time) {
@@ -162,8 +155,8 @@ void PatternFrames::write(std::int64_t step, const FrameData& data) {
   near_surface_->set_owned(data.shown);
   std::vector<double> pattern(piece_->mesh.positions.size());
   sampler_->sample(near_surface_->local(), pattern);
-  write_surface(frame_name(step), data.time, pattern, lo, hi);
-  write_cells(frame_name(step), data.time, data);
+  write_surface(io::step_name(step), data.time, pattern, lo, hi);
+  write_cells(io::step_name(step), data.time, data);
 }
 
 void PatternFrames::write_surface(const std::string& name, double time,

@@ -290,19 +290,17 @@ void TurkRdPipeline::run(RunContext& ctx) {
     auto stage = ctx.timers.scope("setup");
     std::optional<double> restart_time;
     if (run.restart) {
-      const auto found = store.resolve(*run.restart);
-      for (const auto& skipped : found.skipped)
-        log::warn("skipped checkpoint " + skipped.path.string() + ": " + skipped.reason);
-      const auto stage_index = std::size_t(found.reader.attribute_int64("stage"));
+      const auto reader = store.resolve_for_restart(*run.restart);
+      const auto stage_index = std::size_t(reader.attribute_int64("stage"));
       if (stage_index >= stages.size())
-        throw InputError(found.reader.path().string() + ": stage " + std::to_string(stage_index) +
+        throw InputError(reader.path().string() + ": stage " + std::to_string(stage_index) +
                          " of a cascade with more stages");
       auto fields = earlier_stage_names(stages, stage_index);
       fields.insert(fields.end(), stages[stage_index].species.begin(),
                     stages[stage_index].species.end());
-      state = load_cascade(found.reader, cells, fields);
+      state = load_cascade(reader, cells, fields);
       restart_time = stage_time[state.stage] + double(state.stage_step) * stages[state.stage].dt;
-      log::info(log::cat("restarted from ", found.reader.path().string(), " in stage '",
+      log::info(log::cat("restarted from ", reader.path().string(), " in stage '",
                          stages[state.stage].name, "' after ", state.stage_step, " steps"));
     }
     frames = std::make_unique<PatternFrames>(comm, surface, cells, settings_.render, run.output_dir,
