@@ -13,7 +13,7 @@
 /// values then come from their owners (update_halo), never from an incomplete neighbourhood.
 ///
 /// Rank 0 reads or generates the mesh, partitions it and sends each rank its part; that is the
-/// only time one rank holds the whole surface (docs/ARCHITECTURE.md, "Scale-out").
+/// only time one rank holds the whole surface (docs/fem_rd.md, "Distribution").
 #include "geom/mesh_topology.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
