@@ -265,11 +265,6 @@ DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root
   quality_.halo_max = most_halo[1];
 }
 
-int DistributedMesh::owner(std::int32_t vertex) const {
-  const auto it = std::upper_bound(owner_begin_.begin(), owner_begin_.end(), vertex);
-  return int(it - owner_begin_.begin()) - 1;
-}
-
 std::span<const std::int32_t> DistributedMesh::ghosts() const {
   return std::span(global_id_).subspan(std::size_t(owned_count()), std::size_t(ghost_count_));
 }

@@ -64,8 +64,6 @@ public:
   std::int32_t owned_count() const { return owned_end() - owned_begin(); }
   std::int32_t global_count() const { return owner_begin_.back(); }
   std::int64_t global_triangle_count() const { return global_triangles_; }
-  /// Owning rank of a global vertex id.
-  int owner(std::int32_t vertex) const;
 
   /// Global ids of the ghosts, increasing.
   std::span<const std::int32_t> ghosts() const;

@@ -67,8 +67,6 @@ SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
   number_along_morton_curve(comm, mesh,
                             relaxed_surface_points(comm, mesh, topology, settings.count, seed,
                                                    settings.relaxation, &relaxation_));
-  rank_offsets_ = offsets_of_ranks(comm, owned_count());
-  owned_begin_ = rank_offsets_[comm.rank];
   build_view(comm, mesh, settings.halo_spacings * spacing_);
   reduce_pieces(comm);
   build_stencil(comm);
@@ -78,14 +76,11 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Triang
                                              DistributedSurfacePoints relaxed) {
   // Cell ids follow the points sorted by (Morton key in the mesh's bounding box, point id); the
   // sort leaves rank r the even run of cells floor(cell p / n) = r, in id order.
-  const auto run = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(relaxed));
-  std::int64_t first = 0, count = std::int64_t(run.ids.size());
-  MPI_Exscan(&count, &first, 1, MPI_INT64_T, MPI_SUM, comm.raw);
-  if (comm.rank == 0)
-    first = 0;
-  for (std::size_t k = 0; k < run.ids.size(); ++k)
-    ids_.push_back(first + std::int64_t(k));
-  points_ = run.points;
+  points_ = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(relaxed)).points;
+  rank_offsets_ = offsets_of_ranks(comm, owned_count());
+  owned_begin_ = rank_offsets_[comm.rank];
+  ids_.resize(points_.size());
+  std::iota(ids_.begin(), ids_.end(), owned_begin_);
 }
 
 void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {

@@ -48,7 +48,7 @@ public:
   std::int64_t owned_begin() const { return owned_begin_; }
   /// First global block index of every rank's cells, and the total at the end (size + 1 entries).
   std::span<const std::int64_t> rank_offsets() const { return rank_offsets_; }
-  std::int32_t owned_count() const { return std::int32_t(ids_.size()); }
+  std::int32_t owned_count() const { return std::int32_t(points_.size()); }
 
   /// Owned cells, increasing ids: id, centre on the surface, area.
   std::span<const std::int64_t> ids() const { return ids_; }
