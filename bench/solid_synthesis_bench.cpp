@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   std::vector<double> feature_times;
   for (int r = 0; r < settings.repeats; ++r)
     feature_times.push_back(texsim::bench::timed(
-        comm, [&] { space = build_appearance_space(exemplar, AppearanceOptions{}); }));
+        comm, [&] { space = build_appearance_space(comm, exemplar, AppearanceOptions{}); }));
 
   const int levels = levels_for(settings.size);
   std::vector<SimilaritySets> sets(space.levels.size());

@@ -19,8 +19,10 @@ void write_summary(const std::filesystem::path& output_dir, const SummaryHeader&
   summary["config_hash"] = header.config_hash;
   summary["stages"] = nlohmann::json::array();
   for (const auto& stage : timers.stages())
-    summary["stages"].push_back(
-        {{"name", stage.name}, {"wall_s", stage.wall_s}, {"calls", stage.calls}});
+    summary["stages"].push_back({{"name", stage.name},
+                                 {"wall_s", stage.wall_s},
+                                 {"calls", stage.calls},
+                                 {"peak_resident_bytes", stage.peak_resident_bytes}});
   if (!header.peak_resident_bytes.empty())
     summary["memory"] = {
         {"peak_resident_bytes_per_rank", header.peak_resident_bytes},

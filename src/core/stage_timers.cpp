@@ -1,5 +1,7 @@
 #include "core/stage_timers.hpp"
 
+#include "core/peak_memory.hpp"
+
 #include <chrono>
 
 namespace texsim {
@@ -15,6 +17,7 @@ StageTimers::Scope::~Scope() {
   auto& stage = owner_.stages_[index_];
   stage.wall_s += wall_seconds() - start_s_;
   ++stage.calls;
+  stage.peak_resident_bytes = texsim::peak_resident_bytes();
 }
 
 StageTimers::Scope StageTimers::scope(const std::string& name) {

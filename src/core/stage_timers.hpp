@@ -1,6 +1,7 @@
 #pragma once
 /// Per-stage wall-clock timers for the run summary: { auto s = timers.scope("assembly"); ... }.
 /// A stage entered several times accumulates. Local to the calling rank (no communication).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,9 @@ struct StageTime {
   std::string name;
   double wall_s = 0;
   int calls = 0;
+  /// This process's peak resident memory when the stage last ended: the stage where it first
+  /// reaches the run's peak is the one that sets it.
+  std::int64_t peak_resident_bytes = 0;
 };
 
 class StageTimers {

@@ -10,10 +10,35 @@
 
 #include <array>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace texsim::vol {
+
+/// The three cross sections x = positions[0] (YZ), y = positions[1] (XZ) and z = positions[2]
+/// (XY) of a 1- (grey) or 3-channel (RGB) volume, oriented as above, filled from its z-planes as
+/// they come: a volume split into z-slabs over ranks is never whole on one rank.
+class CrossSections {
+public:
+  /// Throws InputError naming the axis if a position is outside `dims`, Error if `channels` is
+  /// neither 1 nor 3.
+  CrossSections(Dims dims, int channels, const std::array<int, 3>& positions);
+
+  /// Planes z_first, z_first + 1, ... of the volume: whole planes, x fastest, `channels` values
+  /// per voxel.
+  void add_planes(int z_first, std::span<const float> values);
+
+  const std::array<int, 3>& positions() const { return positions_; }
+  /// The picture of plane `axis`; complete once every z-plane has been added.
+  const img::RgbImage& picture(int axis) const { return pictures_[axis]; }
+
+private:
+  Dims dims_;
+  int channels_;
+  std::array<int, 3> positions_;
+  std::array<img::RgbImage, 3> pictures_;
+};
 
 /// The plane `axis` (0: x, 1: y, 2: z) = `position` of a 1-channel (grey) or 3-channel (RGB)
 /// grid, oriented as above. Throws InputError if `position` is outside the grid.
@@ -30,6 +55,10 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
                                                         const std::string& basename,
                                                         const ChannelGrid& colours,
                                                         const std::array<int, 3>& positions);
+/// The same from sections already taken.
+std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::path& directory,
+                                                        const std::string& basename,
+                                                        const CrossSections& sections);
 
 /// One picture comparing an exemplar with a synthesized result at the same voxel scale: the
 /// exemplar's three cross sections through its centre (x, y, z planes, left to right) above the
@@ -39,5 +68,8 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
 std::filesystem::path write_comparison(const std::filesystem::path& path,
                                        const ChannelGrid& exemplar, const ChannelGrid& result,
                                        const std::array<int, 3>& result_positions);
+/// The same with the result's sections already taken.
+std::filesystem::path write_comparison(const std::filesystem::path& path,
+                                       const ChannelGrid& exemplar, const CrossSections& result);
 
 } // namespace texsim::vol

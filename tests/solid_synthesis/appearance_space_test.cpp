@@ -304,6 +304,26 @@ TEST(AppearanceSpace, BuildsAreBitwiseIdenticalForAnyThreadCount) {
   }
 }
 
+TEST(AppearanceSpace, BuildsSplitOverRanksAreBitwiseTheSerialOne) {
+  // Levels' axes on different ranks, rows of every level projected by all: the same bits as one
+  // process computing everything, on every rank. An odd exemplar size leaves uneven row shares.
+  const vol::ChannelGrid exemplar = vol::to_channels(vol::noise_exemplar(15, 8));
+  for (const ExemplarBorder border : {ExemplarBorder::toroidal, ExemplarBorder::discard}) {
+    AppearanceOptions options;
+    options.border = border;
+    const AppearanceSpace serial = build_appearance_space(exemplar, options);
+    const AppearanceSpace split = build_appearance_space(par::world(), exemplar, options);
+    ASSERT_EQ(serial.levels.size(), split.levels.size());
+    for (std::size_t s = 0; s < serial.levels.size(); ++s) {
+      EXPECT_TRUE(same_bytes(serial.levels[s].features, split.levels[s].features))
+          << "level " << s << " on rank " << par::world().rank << " of " << par::world().size;
+      EXPECT_TRUE(serial.levels[s].basis == split.levels[s].basis) << s;
+      EXPECT_TRUE(serial.levels[s].mean == split.levels[s].mean) << s;
+      EXPECT_EQ(serial.levels[s].retained_variance, split.levels[s].retained_variance) << s;
+    }
+  }
+}
+
 TEST(AppearanceSpace, ConstantLevelsGiveZeroFeaturesWithoutNaN) {
   const AppearanceSpace flat =
       build_appearance_space(vol::ChannelGrid({8, 8, 8}, 3, 0.4f), AppearanceOptions{});

@@ -1,5 +1,6 @@
 #include "vol/cross_section_writer.hpp"
 
+#include "core/error.hpp"
 #include "img/image_io.hpp"
 #include "support/input_error.hpp"
 #include "support/test_data.hpp"
@@ -108,6 +109,28 @@ TEST(CrossSectionWriter, ComparisonPutsTheExemplarsCentralSlicesAboveTheResults)
     for (int i = 0; i < 9; ++i) // the result's z = 1 plane, bottom right
       EXPECT_LE(difference(picture, 8 + 4 + 9 + 4 + i, 7 + 4 + 2 + 7 - j, result, i, j, 1), kLevel);
   EXPECT_EQ(picture.at(0, 8), img::Rgb::grey(1.0f)); // the gap between the rows
+}
+
+TEST(CrossSectionWriter, SectionsFilledPlaneByPlaneInAnyOrderAreTheWholeGridsOnes) {
+  for (const int channels : {1, 3}) {
+    const ChannelGrid grid = coordinate_colours(channels); // 5 x 6 x 7
+    CrossSections sections(grid.dims(), channels, {2, 5, 3});
+    const std::size_t plane = 5 * 6 * static_cast<std::size_t>(channels);
+    // Planes 4-6, then 0-1, then 2-3: slabs arriving out of order.
+    sections.add_planes(4, grid.data().subspan(4 * plane, 3 * plane));
+    sections.add_planes(0, grid.data().subspan(0, 2 * plane));
+    sections.add_planes(2, grid.data().subspan(2 * plane, 2 * plane));
+    for (int axis = 0; axis < 3; ++axis) {
+      const img::RgbImage whole = cross_section(grid, axis, sections.positions()[axis]);
+      const img::RgbImage& pieces = sections.picture(axis);
+      ASSERT_EQ(pieces.width(), whole.width());
+      ASSERT_EQ(pieces.height(), whole.height());
+      for (int y = 0; y < whole.height(); ++y)
+        for (int x = 0; x < whole.width(); ++x)
+          EXPECT_EQ(pieces.at(x, y), whole.at(x, y)) << "axis " << axis;
+    }
+    EXPECT_THROW(sections.add_planes(6, grid.data().subspan(0, 2 * plane)), Error);
+  }
 }
 
 TEST(CrossSectionWriter, PositionOutsideTheGridIsAnInputError) {

@@ -1,9 +1,11 @@
 #include "pipelines/solid_synthesis/appearance_space.hpp"
 
 #include "core/error.hpp"
+#include "par/comm.hpp"
 #include "vol/gaussian_stack_3d.hpp"
 
 #include <cblas.h>
+#include <mpi.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -12,6 +14,8 @@
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
+#include <limits>
+#include <utility>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -451,12 +455,14 @@ add_taps(float* acc, const float* row, const float* weights, int taps, int spaci
   }
 }
 
-/// Appearance vectors of the box's voxels, one x row at a time: (x - mean) B is accumulated from
-/// the centred level's rows, padded along x by the taps' reach (wrapped or clamped) so every tap
-/// reads them contiguously. Each vector is summed in the same order on any thread.
-vol::ChannelGrid project_level(const vol::ChannelGrid& level, const Box& box, int spacing,
-                               bool periodic, const std::vector<float>& centre,
-                               const AppearanceLevel& appearance) {
+/// Appearance vectors of the box's voxels in x rows [rows.first, rows.second) (row y + ny z of the
+/// box), written into `features`, one x row at a time: (x - mean) B is accumulated from the
+/// centred level's rows, padded along x by the taps' reach (wrapped or clamped) so every tap
+/// reads them contiguously. Each vector is summed in the same order on any thread and whichever
+/// rows are asked for.
+void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, bool periodic,
+                   const std::vector<float>& centre, const AppearanceLevel& appearance,
+                   std::pair<std::ptrdiff_t, std::ptrdiff_t> rows, vol::ChannelGrid& features) {
   const int window = appearance.window, reach = window / 2 * spacing;
   const int channels = level.channels();
   const auto c_count = static_cast<std::size_t>(channels);
@@ -507,14 +513,11 @@ vol::ChannelGrid project_level(const vol::ChannelGrid& level, const Box& box, in
     }
   }
 
-  vol::ChannelGrid features(vol::Dims{box.size[0], box.size[1], box.size[2]},
-                            static_cast<int>(dimensions));
-  const auto rows = static_cast<std::ptrdiff_t>(box.size[1]) * box.size[2];
 #pragma omp parallel
   {
     std::vector<float> acc(dimensions * length);
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    for (std::ptrdiff_t row = rows.first; row < rows.second; ++row) {
       const int y = box.lo[1] + static_cast<int>(row % box.size[1]);
       const int z = box.lo[2] + static_cast<int>(row / box.size[1]);
       std::fill(acc.begin(), acc.end(), 0.0f);
@@ -542,7 +545,6 @@ vol::ChannelGrid project_level(const vol::ChannelGrid& level, const Box& box, in
       }
     }
   }
-  return features;
 }
 
 vol::ChannelGrid crop(const vol::ChannelGrid& grid, const Box& box) {
@@ -557,7 +559,7 @@ vol::ChannelGrid crop(const vol::ChannelGrid& grid, const Box& box) {
 
 } // namespace
 
-AppearanceSpace build_appearance_space(const vol::ChannelGrid& exemplar,
+AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::ChannelGrid& exemplar,
                                        const AppearanceOptions& options) {
   const int window = options.window;
   const int channels = exemplar.channels();
@@ -572,6 +574,10 @@ AppearanceSpace build_appearance_space(const vol::ChannelGrid& exemplar,
   const bool periodic = options.border == ExemplarBorder::toroidal;
   const int cut = periodic ? 0 : window / 2;
   const Box box{{cut, cut, cut}, {dims.nx - 2 * cut, dims.ny - 2 * cut, dims.nz - 2 * cut}};
+  const std::size_t feature_values = box.count() * static_cast<std::size_t>(options.dimensions);
+  TEXSIM_VERIFY(feature_values <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                "exemplar of " << box.count() << " voxels: its " << options.dimensions
+                               << "-dimensional features exceed one MPI message");
 
   float largest = 0.0f;
   for (const float v : exemplar.data()) {
@@ -582,37 +588,74 @@ AppearanceSpace build_appearance_space(const vol::ChannelGrid& exemplar,
 
   std::vector<vol::ChannelGrid> stack = vol::gaussian_stack(exemplar, periodic);
   const std::size_t level_count = stack.size();
-  std::vector<NeighbourhoodStatistics> statistics;
-  for (std::size_t s = 0; s < level_count; ++s) {
-    const int spacing = 1 << s;
-    statistics.push_back(periodic ? toroidal_statistics(stack[s], window, spacing)
-                                  : clamped_statistics(stack[s], window, spacing, box));
-  }
-  std::vector<PrincipalAxes> axes(level_count);
-#pragma omp parallel for schedule(dynamic)
-  for (std::size_t s = 0; s < level_count; ++s) {
-    axes[s] = principal_axes(statistics[s].covariance, options.dimensions, noise_floor);
-  }
-
   AppearanceSpace space;
   space.periodic = periodic;
+  space.levels.resize(level_count);
+  std::vector<std::vector<float>> centres(level_count, std::vector<float>(channels));
+  // The statistics and principal axes of level s are computed by rank s mod size alone, then
+  // shared: the same axes for any rank count.
   for (std::size_t s = 0; s < level_count; ++s) {
-    TEXSIM_VERIFY(axes[s].solved, "eigen decomposition of the level " << s << " covariance failed");
-    AppearanceLevel level;
+    AppearanceLevel& level = space.levels[s];
     level.spacing = 1 << s;
     level.window = window;
-    level.mean = std::move(statistics[s].mean);
-    level.basis = std::move(axes[s].basis);
-    level.retained_variance = axes[s].retained_variance;
+    level.mean = Eigen::VectorXd::Zero(components);
+    level.basis = Eigen::MatrixXd::Zero(components, options.dimensions);
+    if (static_cast<int>(s % static_cast<std::size_t>(comm.size)) != comm.rank)
+      continue;
+    NeighbourhoodStatistics statistics =
+        periodic ? toroidal_statistics(stack[s], window, level.spacing)
+                 : clamped_statistics(stack[s], window, level.spacing, box);
+    const PrincipalAxes axes =
+        principal_axes(statistics.covariance, options.dimensions, noise_floor);
+    // A failed decomposition travels as NaN variance, so every rank reports it.
+    level.retained_variance = axes.solved ? axes.retained_variance : std::nan("");
+    level.mean = std::move(statistics.mean);
+    level.basis = axes.basis;
+    centres[s] = std::move(statistics.centre);
+  }
+  for (std::size_t s = 0; s < level_count && comm.size > 1; ++s) {
+    AppearanceLevel& level = space.levels[s];
+    const int owner = static_cast<int>(s % static_cast<std::size_t>(comm.size));
+    MPI_Bcast(level.mean.data(), components, MPI_DOUBLE, owner, comm.raw);
+    MPI_Bcast(level.basis.data(), static_cast<int>(level.basis.size()), MPI_DOUBLE, owner,
+              comm.raw);
+    MPI_Bcast(&level.retained_variance, 1, MPI_DOUBLE, owner, comm.raw);
+    MPI_Bcast(centres[s].data(), channels, MPI_FLOAT, owner, comm.raw);
+  }
+  for (std::size_t s = 0; s < level_count; ++s)
+    TEXSIM_VERIFY(!std::isnan(space.levels[s].retained_variance),
+                  "eigen decomposition of the level " << s << " covariance failed");
+
+  // Every rank projects an even share of the x rows of each level; the shares are then gathered.
+  const auto rows = static_cast<std::ptrdiff_t>(box.size[1]) * box.size[2];
+  const auto row_of_rank = [&](int r) { return rows * r / comm.size; };
+  const auto row_values = static_cast<std::ptrdiff_t>(box.size[0]) * options.dimensions;
+  std::vector<int> counts(static_cast<std::size_t>(comm.size)),
+      offsets(static_cast<std::size_t>(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[r] = static_cast<int>(row_of_rank(r) * row_values);
+    counts[r] = static_cast<int>((row_of_rank(r + 1) - row_of_rank(r)) * row_values);
+  }
+  for (std::size_t s = 0; s < level_count; ++s) {
+    AppearanceLevel& level = space.levels[s];
     level.features =
-        project_level(stack[s], box, level.spacing, periodic, statistics[s].centre, level);
-    space.levels.push_back(std::move(level));
+        vol::ChannelGrid(vol::Dims{box.size[0], box.size[1], box.size[2]}, options.dimensions);
+    project_level(stack[s], box, level.spacing, periodic, centres[s], level,
+                  {row_of_rank(comm.rank), row_of_rank(comm.rank + 1)}, level.features);
+    if (comm.size > 1)
+      MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, level.features.data().data(),
+                     counts.data(), offsets.data(), MPI_FLOAT, comm.raw);
   }
   space.colours = periodic ? exemplar : crop(exemplar, box);
   for (vol::ChannelGrid& level : stack) {
     space.stack.push_back(periodic ? std::move(level) : crop(level, box));
   }
   return space;
+}
+
+AppearanceSpace build_appearance_space(const vol::ChannelGrid& exemplar,
+                                       const AppearanceOptions& options) {
+  return build_appearance_space(par::Comm{MPI_COMM_SELF, 0, 1}, exemplar, options);
 }
 
 void project_neighbourhood(const AppearanceLevel& level, const vol::ChannelGrid& colours, int i,

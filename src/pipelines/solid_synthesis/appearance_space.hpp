@@ -3,6 +3,7 @@
 /// voxel of every Gaussian-stack level gets the window^3 x C neighbourhood of that level, sampled
 /// with taps 2^s apart, projected onto the level's principal axes. Nearest neighbours in this space
 /// are what similarity sets and voxel correction match.
+#include "par/comm.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <Eigen/Dense>
@@ -50,9 +51,14 @@ struct AppearanceSpace {
 /// wrap. Discard (the thesis' "discard the data of 2 voxels on each border"): stack and
 /// neighbourhoods clamp on the whole exemplar, then every level is cropped by window / 2 voxels
 /// per face, so the finest level's features of the kept voxels see only real data; PCA uses the
-/// kept voxels only. OpenMP inside; the result does not depend on the thread count.
-/// Throws Error if the window is not odd and positive, dimensions < 1, or the exemplar is smaller
-/// than the window along an axis.
+/// kept voxels only. Split over `comm`: the statistics and principal axes of stack level s on
+/// rank s mod size, the projection by x rows over all ranks; every rank gets the whole space,
+/// the same bits for any rank and thread count. Collective.
+/// Throws Error (on every rank) if the window is not odd and positive, dimensions < 1, or the
+/// exemplar is smaller than the window along an axis.
+AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::ChannelGrid& exemplar,
+                                       const AppearanceOptions& options);
+/// The same in this process alone.
 AppearanceSpace build_appearance_space(const vol::ChannelGrid& exemplar,
                                        const AppearanceOptions& options);
 

@@ -80,6 +80,13 @@ void CoordinateSlab::exchange_halo(const par::Comm& comm) {
                comm.raw, MPI_STATUS_IGNORE);
 }
 
+PlaneRange reported_planes(const par::Comm& comm, const CoordinateSlab& slab, int crop_nz) {
+  const LevelLayout& layout = slab.layout();
+  if (layout.replicated)
+    return comm.is_root() ? PlaneRange{0, crop_nz} : PlaneRange{};
+  return {layout.z_begin, std::max(layout.z_begin, std::min(layout.z_end, crop_nz))};
+}
+
 CoordinateSlab parent_planes(const par::Comm& comm, const CoordinateSlab& parent,
                              const LevelLayout& child) {
   const LevelLayout& own = parent.layout();

@@ -84,6 +84,15 @@ private:
   std::vector<Coord> values_;
 };
 
+/// Planes [begin, end) of a level's z-crop [0, crop_nz) that this rank reports (outputs, sums
+/// over the result): its owned planes, or on a replicated level all of them on rank 0 and none
+/// elsewhere, so every plane is reported once.
+struct PlaneRange {
+  int begin = 0;
+  int end = 0;
+};
+PlaneRange reported_planes(const par::Comm& comm, const CoordinateSlab& slab, int crop_nz);
+
 /// The planes of `parent` that the child level laid out by `child` (this rank's layout of the
 /// level below `parent`) reads when it is made: planes z / 2 of its owned planes z, fetched from
 /// the ranks that own them, as the owned planes of a slab of the parent's size (no halo). Empty

@@ -55,8 +55,9 @@ MemoryEstimate synthesis_estimate(const SolidSynthesisSettings& settings, int ra
       std::uint64_t(dims[0]) * std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
   // Per pyramid voxel: coordinates, features and the next level's copy (all levels: x 8/7).
   const std::uint64_t distributed = saturating_multiply(pyramid_voxels, 64) / std::uint64_t(ranks);
-  // On rank 0: the gathered colours and the writers' copies.
-  const std::uint64_t gathered = saturating_multiply(result_voxels, 48);
+  // On rank 0: the .vdb tree it assembles (12 bytes a colour voxel; the exemplar features are
+  // freed by then).
+  const std::uint64_t gathered = saturating_multiply(result_voxels, 12);
   const bool cube = dims[0] == dims[1] && dims[1] == dims[2];
   const std::string key =
       std::string("solid_synthesis.synthesis.") + (cube ? "size (or dims)" : "dims");

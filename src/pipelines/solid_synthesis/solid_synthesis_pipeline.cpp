@@ -8,12 +8,11 @@
 #include "par/collective.hpp"
 #include "pipelines/solid_synthesis/appearance_space_cache.hpp"
 #include "pipelines/solid_synthesis/level_checkpoint.hpp"
+#include "pipelines/solid_synthesis/result_quality.hpp"
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
 #include "pipelines/solid_synthesis/synthesis_coherence.hpp"
 #include "pipelines/solid_synthesis/synthesis_exemplar.hpp"
-#include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 #include "pipelines/solid_synthesis/synthesis_result.hpp"
-#include "vol/cross_section_writer.hpp"
 
 #include <algorithm>
 #include <memory>
@@ -100,8 +99,9 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     if (from_cache) {
       space = std::move(*cached);
     } else {
-      par::run_collectively(
-          comm, [&] { space = build_appearance_space(exemplar.colours, settings_.appearance); });
+      par::run_collectively(comm, [&] {
+        space = build_appearance_space(comm, exemplar.colours, settings_.appearance);
+      });
       if (!settings_.cache_dir.empty())
         save_appearance_space(comm, cache_file, key, space);
     }
@@ -143,8 +143,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     par::run_collectively(comm, [&] { field = make_axes_field(*settings_.field); });
   SynthesisOptions options = settings_.synthesis;
   options.seed = run.seed;
-  const PyramidSynthesizer synthesizer(comm, make_synthesis_exemplar(space, sets), options,
-                                       field.get());
+  std::optional<PyramidSynthesizer> synthesizer;
+  synthesizer.emplace(comm, make_synthesis_exemplar(space, sets), options, field.get());
 
   io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
                             run.checkpoint_keep);
@@ -165,9 +165,9 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     for (int level = slab ? level_of(*slab) + 1 : 0; level <= pyramid_levels; ++level) {
       LevelStats stats;
       if (level == 0) {
-        slab = std::make_unique<CoordinateSlab>(synthesizer.first_level(stats));
+        slab = std::make_unique<CoordinateSlab>(synthesizer->first_level(stats));
       } else {
-        auto next = synthesizer.next_level(*slab, stats, stop_requested);
+        auto next = synthesizer->next_level(*slab, stats, stop_requested);
         if (!next) {
           // Stopped inside a level: the finished level before it is what a restart needs.
           auto checkpoint = ctx.timers.scope("checkpoint");
@@ -201,46 +201,46 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   }
   report.metric("levels", levels);
 
-  auto stage = ctx.timers.scope("output");
-  slab->exchange_halo(comm); // the pieces share each next slab's first plane
-  std::optional<LevelJacobians> finest_jacobians;
-  if (field)
-    finest_jacobians = sample_level(*field, slab->size(), slab->layout().z_begin,
-                                    slab->layout().z_end, slab->size());
-  const double incoherent =
-      incoherent_fraction(comm, *slab, finest_jacobians ? &*finest_jacobians : nullptr,
-                          space.colours.dims(), settings_.dims);
-  for (const auto& path :
-       write_parallel_result(comm, run.output_dir, *slab, settings_.dims, space.colours))
-    report.output(path.string());
-  const SynthesisResult result = gather_result(comm, *slab, settings_.dims, space.colours);
-  par::run_collectively(comm, [&] {
-    if (!comm.is_root())
-      return;
-    for (const auto& path : write_result(run.output_dir, result, settings_.cross_sections))
+  // The outputs read the exemplar colours and the finest features only.
+  synthesizer.reset();
+  sets.clear();
+  space.stack.clear();
+  space.levels.resize(1);
+  {
+    auto stage = ctx.timers.scope("output");
+    slab->exchange_halo(comm); // the pieces share each next slab's first plane
+    std::optional<LevelJacobians> finest_jacobians;
+    if (field)
+      finest_jacobians = sample_level(*field, slab->size(), slab->layout().z_begin,
+                                      slab->layout().z_end, slab->size());
+    const double incoherent =
+        incoherent_fraction(comm, *slab, finest_jacobians ? &*finest_jacobians : nullptr,
+                            space.colours.dims(), settings_.dims);
+    for (const auto& path :
+         write_parallel_result(comm, run.output_dir, *slab, settings_.dims, space.colours))
       report.output(path.string());
-    const auto& d = settings_.dims; // through the centres, like the exemplar's
-    report.output(vol::write_comparison(run.output_dir / "slices" / "comparison.png", space.colours,
-                                        result.colours, {d[0] / 2, d[1] / 2, d[2] / 2})
-                      .string());
     const int largest = *std::max_element(settings_.dims.begin(), settings_.dims.end());
     const int stride = settings_.metric_stride > 0 ? settings_.metric_stride
                                                    : std::max(1, largest / kMetricSamplesPerAxis);
-    const auto& finest = space.levels.front();
-    const double error = neighbourhood_error(
-        result.colours, finest.features,
-        [&](const vol::ChannelGrid& colours, int i, int j, int k, std::span<float> out) {
-          project_neighbourhood(finest, colours, i, j, k, out);
-        },
-        stride);
-    const double histogram = histogram_distance(result.colours, space.colours);
+    const double error = slab_neighbourhood_error(comm, *slab, settings_.dims, space.levels.front(),
+                                                  space.colours, stride);
+    const double histogram = slab_histogram_distance(comm, *slab, settings_.dims, space.colours);
     report.metric("quality", {{"neighbourhood_error", error},
                               {"neighbourhood_error_stride", stride},
                               {"histogram_distance", histogram},
                               {"incoherent_fraction", incoherent}});
     log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram,
                        ", incoherent voxels ", incoherent));
-  });
+  }
+  space.levels.clear(); // before rank 0 holds the .vdb tree
+  {
+    // Rank 0 alone builds the .vdb and the slices from the slabs as they arrive: the one serial
+    // stage of the output, timed apart for the scaling model (scripts/bench scale).
+    auto stage = ctx.timers.scope("assembly");
+    for (const auto& path : write_assembled_result(comm, run.output_dir, *slab, settings_.dims,
+                                                   space.colours, settings_.cross_sections))
+      report.output(path.string());
+  }
   report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});
 }
 

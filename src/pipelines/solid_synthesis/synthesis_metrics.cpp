@@ -96,15 +96,50 @@ double luminance(std::span<const float> colour) {
 
 } // namespace
 
+double appearance_spread(const vol::ChannelGrid& exemplar_features) {
+  const double spread = mean_spread(exemplar_features.data(), exemplar_features.channels());
+  TEXSIM_VERIFY(spread > 0.0, "neighbourhood_error: the exemplar's appearance vectors are all "
+                              "equal, so the error has no scale");
+  return spread;
+}
+
+std::vector<double> nearest_appearance_distances(std::span<const float> queries,
+                                                 const vol::ChannelGrid& exemplar_features) {
+  const int dimension = exemplar_features.channels();
+  const std::span<const float> exemplar = exemplar_features.data();
+  const auto count = static_cast<std::int64_t>(queries.size() / std::size_t(dimension));
+  // Exact nearest neighbours by a blocked brute-force scan over the exemplar transposed, so each
+  // channel's values are contiguous and the distance loop runs across points in SIMD lanes.
+  const std::size_t points = exemplar_features.voxel_count();
+  std::vector<float> columns(exemplar.size());
+  for (std::size_t v = 0; v < points; ++v) {
+    for (int c = 0; c < dimension; ++c) {
+      columns[static_cast<std::size_t>(c) * points + v] = exemplar[v * dimension + c];
+    }
+  }
+  std::vector<float> best(static_cast<std::size_t>(count), std::numeric_limits<float>::infinity());
+  const std::int64_t groups = (count + kQueryGroup - 1) / kQueryGroup;
+#pragma omp parallel for schedule(dynamic)
+  for (std::int64_t group = 0; group < groups; ++group) {
+    const std::int64_t first = group * kQueryGroup;
+    const std::int64_t size = std::min(kQueryGroup, count - first);
+    for (std::size_t begin = 0; begin < points; begin += kPointBlock) {
+      lower_to_nearest(columns.data(), points, begin, std::min(points, begin + kPointBlock),
+                       dimension, queries.data() + first * dimension, size, best.data() + first);
+    }
+  }
+  std::vector<double> distances(best.size());
+  std::transform(best.begin(), best.end(), distances.begin(),
+                 [](float squared) { return std::sqrt(static_cast<double>(squared)); });
+  return distances;
+}
+
 double neighbourhood_error(const vol::ChannelGrid& result_colours,
                            const vol::ChannelGrid& exemplar_features,
                            const NeighbourhoodProjection& project, int stride) {
   TEXSIM_VERIFY(stride > 0, "neighbourhood_error: stride must be positive, got " << stride);
   const int dimension = exemplar_features.channels();
-  const std::span<const float> exemplar = exemplar_features.data();
-  const double spread = mean_spread(exemplar, dimension);
-  TEXSIM_VERIFY(spread > 0.0, "neighbourhood_error: the exemplar's appearance vectors are all "
-                              "equal, so the error has no scale");
+  const double spread = appearance_spread(exemplar_features);
 
   const vol::Dims dims = result_colours.dims();
   std::vector<std::array<int, 3>> samples;
@@ -123,31 +158,9 @@ double neighbourhood_error(const vol::ChannelGrid& result_colours,
     project(result_colours, i, j, k,
             std::span<float>(queries.data() + q * dimension, static_cast<std::size_t>(dimension)));
   }
-
-  // Exact nearest neighbours by a blocked brute-force scan over the exemplar transposed, so each
-  // channel's values are contiguous and the distance loop runs across points in SIMD lanes.
-  const std::size_t points = exemplar_features.voxel_count();
-  std::vector<float> columns(exemplar.size());
-  for (std::size_t v = 0; v < points; ++v) {
-    for (int c = 0; c < dimension; ++c) {
-      columns[static_cast<std::size_t>(c) * points + v] = exemplar[v * dimension + c];
-    }
-  }
-  std::vector<float> best(samples.size(), std::numeric_limits<float>::infinity());
-  const std::int64_t groups = (count + kQueryGroup - 1) / kQueryGroup;
-#pragma omp parallel for schedule(dynamic)
-  for (std::int64_t group = 0; group < groups; ++group) {
-    const std::int64_t first = group * kQueryGroup;
-    const std::int64_t size = std::min(kQueryGroup, count - first);
-    for (std::size_t begin = 0; begin < points; begin += kPointBlock) {
-      lower_to_nearest(columns.data(), points, begin, std::min(points, begin + kPointBlock),
-                       dimension, queries.data() + first * dimension, size, best.data() + first);
-    }
-  }
-
   double sum = 0.0;
-  for (const float squared : best) {
-    sum += std::sqrt(static_cast<double>(squared));
+  for (const double distance : nearest_appearance_distances(queries, exemplar_features)) {
+    sum += distance;
   }
   return sum / static_cast<double>(count) / spread;
 }

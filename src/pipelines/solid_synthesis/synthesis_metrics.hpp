@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <span>
+#include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
 
@@ -23,6 +24,16 @@ using NeighbourhoodProjection =
 double neighbourhood_error(const vol::ChannelGrid& result_colours,
                            const vol::ChannelGrid& exemplar_features,
                            const NeighbourhoodProjection& project, int stride);
+
+/// The scale of neighbourhood_error: the mean Euclidean distance of the exemplar's appearance
+/// vectors (the voxels of `exemplar_features`) to their mean. Throws Error if it is 0.
+double appearance_spread(const vol::ChannelGrid& exemplar_features);
+
+/// For each query (rows of `queries`, the features' channel count each), the Euclidean distance
+/// to the nearest exemplar appearance vector: exact, and the same bits for a query whichever
+/// others it is asked with.
+std::vector<double> nearest_appearance_distances(std::span<const float> queries,
+                                                 const vol::ChannelGrid& exemplar_features);
 
 /// Total variation distance (0..1) between the joint colour histograms (8 bins per channel,
 /// values clamped to [0, 1]) of two grids with the same channel count (1 to 4); the grids may have

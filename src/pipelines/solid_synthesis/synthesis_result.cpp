@@ -1,6 +1,7 @@
 #include "pipelines/solid_synthesis/synthesis_result.hpp"
 
 #include "core/error.hpp"
+#include "par/collective.hpp"
 #include "par/gather_to_root.hpp"
 #include "vol/cross_section_writer.hpp"
 #include "vol/parallel_vti_writer.hpp"
@@ -14,12 +15,13 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// The owned voxels of `slab` inside the crop box, plane by plane, x fastest.
-std::vector<Coord> cropped_owned(const CoordinateSlab& slab, const std::array<int, 3>& dims) {
-  const LevelLayout& layout = slab.layout();
+/// S on planes [begin, end) of the slab inside the crop box, plane by plane, x fastest.
+std::vector<Coord> cropped_planes(const CoordinateSlab& slab, const std::array<int, 3>& dims,
+                                  PlaneRange planes) {
   std::vector<Coord> out;
-  const int z_end = std::min(layout.z_end, dims[2]);
-  for (int k = layout.z_begin; k < z_end; ++k)
+  out.reserve(std::size_t(std::max(0, planes.end - planes.begin)) * std::size_t(dims[0]) *
+              std::size_t(dims[1]));
+  for (int k = planes.begin; k < planes.end; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i)
         out.push_back(slab.at(i, j, k));
@@ -28,51 +30,82 @@ std::vector<Coord> cropped_owned(const CoordinateSlab& slab, const std::array<in
 
 } // namespace
 
-SynthesisResult gather_result(const par::Comm& comm, const CoordinateSlab& slab,
-                              const std::array<int, 3>& dims, const vol::ChannelGrid& exemplar) {
+std::vector<std::filesystem::path>
+write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
+                       const CoordinateSlab& slab, const std::array<int, 3>& dims,
+                       const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections) {
   TEXSIM_VERIFY(dims[0] <= slab.size() && dims[1] <= slab.size() && dims[2] <= slab.size(),
                 "crop box larger than the synthesized level");
-  std::vector<Coord> local;
-  if (!slab.layout().replicated || comm.is_root())
-    local = cropped_owned(slab, dims);
-  const vol::Dims grid_dims{dims[0], dims[1], dims[2]};
-  SynthesisResult result{comm.is_root() ? vol::ChannelGrid(grid_dims, exemplar.channels())
-                                        : vol::ChannelGrid()};
-  // Slabs are in z order by rank, so rank order is the volume's order; each slab is coloured as
-  // it arrives and dropped, so rank 0 holds the colours and one slab, never every coordinate.
-  std::size_t next = 0;
-  par::stream_to_root(
-      comm, std::as_bytes(std::span<const Coord>(local)),
-      [&](int, std::span<const std::byte> bytes) {
-        const std::size_t count = bytes.size() / sizeof(Coord);
-        TEXSIM_VERIFY(next + count <= grid_dims.count(),
-                      "more voxels than the " << grid_dims.count() << "-voxel result");
-        for (std::size_t v = 0; v < count; ++v, ++next) {
-          Coord c;
-          std::memcpy(&c, bytes.data() + v * sizeof(Coord), sizeof(Coord));
-          const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-          std::copy(colour.begin(), colour.end(), result.colours.voxel(next).begin());
-        }
-      });
-  if (comm.is_root())
-    TEXSIM_VERIFY(next == grid_dims.count(),
-                  "gathered " << next << " voxels for a " << grid_dims.count() << "-voxel result");
-  return result;
-}
+  const PlaneRange planes = reported_planes(comm, slab, dims[2]);
+  // Rank 0 reads its own planes from the slab; the others send theirs.
+  const std::vector<Coord> mine =
+      comm.is_root() ? std::vector<Coord>() : cropped_planes(slab, dims, planes);
 
-std::vector<std::filesystem::path> write_result(const std::filesystem::path& dir,
-                                                const SynthesisResult& result,
-                                                const std::vector<int>& cross_sections) {
-  std::vector<std::filesystem::path> written;
-  const auto vdb = dir / "solid_synthesis.vdb";
-  vol::write_vdb(vdb, result.colours, result.colours.channels() == 1 ? "density" : "colour");
-  written.push_back(vdb);
-  for (const int p : cross_sections) {
-    // One set per position: the combined image is named after the basename alone.
-    const auto slices = vol::write_cross_sections(
-        dir / "slices", "solid_synthesis_" + std::to_string(p), result.colours, {p, p, p});
-    written.insert(written.end(), slices.begin(), slices.end());
+  const vol::Dims grid{dims[0], dims[1], dims[2]};
+  const int channels = exemplar.channels();
+  std::optional<vol::VdbPlaneWriter> vdb;
+  std::vector<vol::CrossSections> sections;
+  if (comm.is_root()) {
+    vdb.emplace(grid, channels, channels == 1 ? "density" : "colour");
+    for (const int p : cross_sections)
+      sections.emplace_back(grid, channels, std::array<int, 3>{p, p, p});
+    // The comparison's result row: through the centres, like the exemplar's.
+    sections.emplace_back(grid, channels,
+                          std::array<int, 3>{dims[0] / 2, dims[1] / 2, dims[2] / 2});
   }
+  // Slabs are in z order by rank, so rank order is the volume's order; each plane is coloured as
+  // it arrives and dropped.
+  const std::size_t plane_voxels = std::size_t(dims[0]) * std::size_t(dims[1]);
+  std::vector<float> plane(plane_voxels * std::size_t(channels));
+  int next_plane = 0;
+  const auto add_plane = [&](const auto& coordinate_of) {
+    for (std::size_t v = 0; v < plane_voxels; ++v) {
+      const Coord c = coordinate_of(v);
+      const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
+      std::copy(colour.begin(), colour.end(), plane.begin() + std::ptrdiff_t(v * channels));
+    }
+    vdb->add_planes(plane);
+    for (vol::CrossSections& s : sections)
+      s.add_planes(next_plane, plane);
+    ++next_plane;
+  };
+  par::stream_to_root(
+      comm, std::as_bytes(std::span<const Coord>(mine)),
+      [&](int rank, std::span<const std::byte> bytes) {
+        if (rank == comm.rank) {
+          for (int k = planes.begin; k < planes.end; ++k)
+            add_plane([&](std::size_t v) {
+              return slab.at(int(v % std::size_t(dims[0])), int(v / std::size_t(dims[0])), k);
+            });
+          return;
+        }
+        TEXSIM_VERIFY(bytes.size() % (plane_voxels * sizeof(Coord)) == 0,
+                      "rank " << rank << " sent " << bytes.size() << " bytes, not whole planes");
+        for (std::size_t at = 0; at < bytes.size(); at += plane_voxels * sizeof(Coord))
+          add_plane([&](std::size_t v) {
+            Coord c;
+            std::memcpy(&c, bytes.data() + at + v * sizeof(Coord), sizeof(Coord));
+            return c;
+          });
+      });
+  std::vector<std::filesystem::path> written;
+  // A file that cannot be written fails every rank, not rank 0 alone.
+  par::run_collectively(comm, [&] {
+    if (!comm.is_root())
+      return;
+    TEXSIM_VERIFY(next_plane == dims[2],
+                  "assembled " << next_plane << " planes of a " << dims[2] << "-plane result");
+    written.push_back(dir / "solid_synthesis.vdb");
+    vdb->write(written.back());
+    for (std::size_t s = 0; s + 1 < sections.size(); ++s) {
+      // One set per position: the combined image is named after the basename alone.
+      const auto slices = vol::write_cross_sections(
+          dir / "slices", "solid_synthesis_" + std::to_string(cross_sections[s]), sections[s]);
+      written.insert(written.end(), slices.begin(), slices.end());
+    }
+    written.push_back(
+        vol::write_comparison(dir / "slices" / "comparison.png", exemplar, sections.back()));
+  });
   return written;
 }
 
@@ -91,37 +124,43 @@ std::vector<std::filesystem::path> write_parallel_result(const par::Comm& comm,
   } else if (comm.is_root()) {
     z_last = dims[2] - 1;
   }
-  std::optional<vol::RgbGrid> coordinates, colour;
-  std::optional<vol::ScalarGrid> density;
-  if (z_last >= z_first) {
-    const vol::Dims piece{dims[0], dims[1], z_last - z_first + 1};
-    coordinates.emplace(piece);
-    if (exemplar.channels() == 1)
-      density.emplace(piece);
-    else
-      colour.emplace(piece);
+  const bool has_piece = z_last >= z_first;
+  const vol::Dims piece{dims[0], dims[1], has_piece ? z_last - z_first + 1 : 1};
+  // One volume at a time: each piece grid is as large as the slab.
+  const auto filled = [&](auto grid, const auto& value_of) {
     for (int k = 0; k < piece.nz; ++k)
       for (int j = 0; j < piece.ny; ++j)
-        for (int i = 0; i < piece.nx; ++i) {
-          const Coord& c = slab.at(i, j, z_first + k);
-          coordinates->at(i, j, k) = {static_cast<float>(c.x), static_cast<float>(c.y),
-                                      static_cast<float>(c.z)};
-          const auto value = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-          if (density)
-            density->at(i, j, k) = value[0];
-          else
-            colour->at(i, j, k) = {value[0], value[1], value[2]};
-        }
-  }
-  const auto pointer = [](const auto& grid) { return grid ? &*grid : nullptr; };
+        for (int i = 0; i < piece.nx; ++i)
+          grid.at(i, j, k) = value_of(slab.at(i, j, z_first + k));
+    return grid;
+  };
+  const auto colour_of = [&](const Coord& c) {
+    return exemplar.voxel(exemplar.index(c.x, c.y, c.z));
+  };
   std::vector<std::filesystem::path> written;
-  written.push_back(exemplar.channels() == 1
-                        ? vol::write_parallel_vti(comm, dir, "solid_synthesis",
-                                                  {pointer(density), z_first}, dims, "density")
-                        : vol::write_parallel_vti(comm, dir, "solid_synthesis",
-                                                  {pointer(colour), z_first}, dims, "colour"));
+  if (exemplar.channels() == 1) {
+    std::optional<vol::ScalarGrid> density;
+    if (has_piece)
+      density = filled(vol::ScalarGrid(piece), [&](const Coord& c) { return colour_of(c)[0]; });
+    written.push_back(vol::write_parallel_vti(
+        comm, dir, "solid_synthesis", {density ? &*density : nullptr, z_first}, dims, "density"));
+  } else {
+    std::optional<vol::RgbGrid> colour;
+    if (has_piece)
+      colour = filled(vol::RgbGrid(piece), [&](const Coord& c) {
+        const auto v = colour_of(c);
+        return img::Rgb{v[0], v[1], v[2]};
+      });
+    written.push_back(vol::write_parallel_vti(
+        comm, dir, "solid_synthesis", {colour ? &*colour : nullptr, z_first}, dims, "colour"));
+  }
+  std::optional<vol::RgbGrid> coordinates;
+  if (has_piece)
+    coordinates = filled(vol::RgbGrid(piece), [](const Coord& c) {
+      return img::Rgb{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+    });
   written.push_back(vol::write_parallel_vti(comm, dir, "exemplar_coordinates",
-                                            {pointer(coordinates), z_first}, dims,
+                                            {coordinates ? &*coordinates : nullptr, z_first}, dims,
                                             "exemplar_coordinate"));
   return written;
 }
