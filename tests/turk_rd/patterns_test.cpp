@@ -7,13 +7,14 @@
 #include "pipelines/turk_rd/pattern_shapes.hpp"
 
 #include <gtest/gtest.h>
+#include <mpi.h>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
 
 PatternShapes pattern_after(const geom::TriangleMesh& mesh, std::int64_t cells_count,
-                            const std::string& model_yaml, int steps) {
-  const par::Comm comm = par::world();
+                            const std::string& model_yaml, int steps,
+                            const par::Comm& comm = par::world()) {
   geom::SurfaceCellsSettings settings;
   settings.count = cells_count;
   const geom::SurfaceCells cells(comm, mesh, geom::MeshTopology(mesh), 4, settings);
@@ -48,6 +49,23 @@ TEST(TurkPatterns, StripeSystemMakesStripesNotSpots) {
   EXPECT_GT(stripes.weighted_elongation, 4.0);
   EXPECT_GT(stripes.weighted_elongation, 2.0 * spots.weighted_elongation)
       << "stripes " << stripes.weighted_elongation << ", spots " << spots.weighted_elongation;
+}
+
+TEST(TurkPatterns, ShapesAreTheSameBitsOnAnyRankCount) {
+  // Each rank measures its own cells; stripes cross every partition. The cells and their values
+  // are the same on any rank count, and so must the figures be, to the bit.
+  const auto torus = geom::torus(1.0, 0.4, 96, 40);
+  const std::string stripes = "type: meinhardt_stripes\n";
+  const auto split = pattern_after(torus, 2500, stripes, 6000);
+  if (par::world().rank != 0)
+    return;
+  const auto serial = pattern_after(torus, 2500, stripes, 6000, par::Comm{MPI_COMM_SELF, 0, 1});
+  EXPECT_GE(serial.regions, 2) << "no stripe pattern formed";
+  EXPECT_EQ(split.regions, serial.regions);
+  EXPECT_EQ(split.mean_cells, serial.mean_cells);
+  EXPECT_EQ(split.median_elongation, serial.median_elongation);
+  EXPECT_EQ(split.max_elongation, serial.max_elongation);
+  EXPECT_EQ(split.weighted_elongation, serial.weighted_elongation);
 }
 
 } // namespace

@@ -1,120 +1,146 @@
 #include "pipelines/turk_rd/pattern_shapes.hpp"
 
-#include "geom/graph_regions.hpp"
+#include "geom/distributed_regions.hpp"
+#include "par/gather_to_root.hpp"
+#include "par/ghosted_vector.hpp"
+#include "par/reproducible_sum.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <numbers>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
 
-template <typename T> MPI_Datatype mpi_type();
-template <> MPI_Datatype mpi_type<double>() {
-  return MPI_DOUBLE;
-}
-template <> MPI_Datatype mpi_type<std::int64_t>() {
-  return MPI_INT64_T;
-}
+/// One rank's share of one region: its cells there, and their area and border with other cells
+/// as sliced partial sums (added across ranks exactly).
+struct RegionShare {
+  std::int64_t label = 0;
+  std::int64_t cells = 0;
+  par::FoldedSum area{};
+  par::FoldedSum perimeter{};
+};
 
-/// Concatenation of every rank's `local` on rank 0 (in rank order). Collective.
-template <typename T>
-std::vector<T> gather_to_root(const par::Comm& comm, const std::vector<T>& local) {
-  int count = int(local.size());
-  std::vector<int> counts(comm.size), offsets(comm.size, 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw);
-  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
-  std::vector<T> all(comm.is_root() ? std::size_t(offsets.back() + counts.back()) : 0);
-  MPI_Gatherv(local.data(), count, mpi_type<T>(), all.data(), counts.data(), offsets.data(),
-              mpi_type<T>(), 0, comm.raw);
-  return all;
+/// The cell graph on this rank's owned cells and ghosts, symmetric: the ghosts' rows hold the owned
+/// cells next to them, so two owned cells joined only through a ghost share a local component.
+geom::CsrAdjacency local_graph(const geom::SurfaceCells& cells) {
+  const auto& stencil = cells.neighbors();
+  const std::int32_t owned = cells.owned_count();
+  const auto nodes = owned + std::int32_t(cells.ghost_ids().size());
+  std::vector<std::vector<std::int32_t>> rows(static_cast<std::size_t>(nodes));
+  for (std::int32_t i = 0; i < owned; ++i)
+    for (const std::int32_t j : stencil.row(i)) {
+      rows[i].push_back(j);
+      if (j >= owned)
+        rows[j].push_back(i);
+    }
+  geom::CsrAdjacency graph;
+  graph.offsets.assign(1, 0);
+  for (const auto& row : rows) {
+    graph.indices.insert(graph.indices.end(), row.begin(), row.end());
+    graph.offsets.push_back(std::int64_t(graph.indices.size()));
+  }
+  return graph;
 }
 
 } // namespace
 
 PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& cells,
                               std::span<const double> owned_values) {
-  // Per owned cell: id, value, area, neighbour count; per neighbour entry: id and border length.
+  const std::int32_t owned = cells.owned_count();
   const auto& stencil = cells.neighbors();
-  std::vector<std::int64_t> ids(cells.ids().begin(), cells.ids().end()), degrees, neighbor_ids;
-  std::vector<double> values(owned_values.begin(), owned_values.end()), borders;
-  std::vector<double> areas(cells.areas().begin(), cells.areas().end());
-  const auto local_id = [&](std::int32_t local) {
-    return local < cells.owned_count() ? cells.ids()[local]
-                                       : cells.ghost_ids()[local - cells.owned_count()];
+  std::int64_t total_cells = owned;
+  MPI_Allreduce(MPI_IN_PLACE, &total_cells, 1, MPI_INT64_T, MPI_SUM, comm.raw);
+  if (total_cells == 0)
+    return {};
+  // The mean as a reproducible sum: the same threshold, to the bit, on any number of ranks.
+  const double mean = par::reproducible_sum(comm, owned_values) / double(total_cells);
+
+  par::GhostedVector halo(comm, owned, cells.ghost_blocks());
+  halo.set_owned(owned_values);
+  const std::span<const double> values = halo.local();
+  std::vector<char> above(values.size());
+  std::vector<std::int64_t> ids(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    above[i] = values[i] > mean;
+    ids[i] = i < std::size_t(owned) ? cells.ids()[i] : cells.ghost_ids()[i - std::size_t(owned)];
+  }
+  const auto labels = geom::label_regions_across_ranks(
+      comm, local_graph(cells), above, ids, owned, [&](std::span<double> local) {
+        halo.set_owned(local.first(std::size_t(owned)));
+        std::copy(halo.local().begin() + owned, halo.local().end(), local.begin() + owned);
+      });
+
+  // Border lengths as the old serial measure had them: coupling x distance between the cells.
+  const auto position = [&](std::int32_t local) {
+    return local < owned ? cells.points()[local].position : cells.ghost_positions()[local - owned];
   };
-  const auto local_position = [&](std::int32_t local) {
-    return local < cells.owned_count() ? cells.points()[local].position
-                                       : cells.ghost_positions()[local - cells.owned_count()];
-  };
-  for (std::int32_t i = 0; i < cells.owned_count(); ++i) {
-    degrees.push_back(stencil.offsets[i + 1] - stencil.offsets[i]);
-    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e) {
-      const std::int32_t j = stencil.indices[e];
-      neighbor_ids.push_back(local_id(j));
-      borders.push_back(cells.couplings()[e] * (local_position(i) - local_position(j)).norm());
+  std::vector<double> borders(stencil.indices.size());
+  for (std::int32_t i = 0; i < owned; ++i)
+    for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e)
+      borders[e] = cells.couplings()[e] * (position(i) - position(stencil.indices[e])).norm();
+  const par::SliceGrids area_grids = par::slice_grids_for(comm, cells.areas());
+  const par::SliceGrids border_grids = par::slice_grids_for(comm, borders);
+
+  // This rank's share of each region, in label order.
+  std::vector<RegionShare> shares;
+  {
+    std::vector<std::int32_t> order;
+    for (std::int32_t i = 0; i < owned; ++i)
+      if (labels[i] >= 0)
+        order.push_back(i);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::int32_t a, std::int32_t b) { return labels[a] < labels[b]; });
+    for (const std::int32_t i : order) {
+      if (shares.empty() || shares.back().label != labels[i])
+        shares.push_back({labels[i], 0, {}, {}});
+      RegionShare& share = shares.back();
+      ++share.cells;
+      area_grids.add(cells.areas()[i], share.area);
+      for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e)
+        if (labels[stencil.indices[e]] != labels[i])
+          border_grids.add(borders[e], share.perimeter);
     }
   }
-  const auto all_ids = gather_to_root(comm, ids);
-  const auto all_values = gather_to_root(comm, values);
-  const auto all_areas = gather_to_root(comm, areas);
-  const auto all_degrees = gather_to_root(comm, degrees);
-  const auto all_neighbors = gather_to_root(comm, neighbor_ids);
-  const auto all_borders = gather_to_root(comm, borders);
-
+  // Rank 0 adds the shares region by region (O(regions) data, not O(cells)).
+  const auto gathered = par::gather_to_root(comm, std::span<const RegionShare>(shares));
   double result[5] = {0, 0, 0, 0, 0};
   if (comm.is_root()) {
-    const std::size_t n = all_ids.size();
-    // Rows by cell id, so the count does not depend on the partition.
-    std::vector<std::int64_t> row_start(n + 1, 0), gathered_start(n + 1, 0);
-    std::vector<std::size_t> row_of(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      row_of[std::size_t(all_ids[k])] = k;
-      gathered_start[k + 1] = gathered_start[k] + all_degrees[k];
-    }
-    geom::CsrAdjacency graph;
-    std::vector<double> graph_borders, value(n), area(n);
-    graph.offsets.assign(1, 0);
-    for (std::size_t id = 0; id < n; ++id) {
-      const std::size_t k = row_of[id];
-      value[id] = all_values[k];
-      area[id] = all_areas[k];
-      for (auto e = gathered_start[k]; e < gathered_start[k + 1]; ++e) {
-        graph.indices.push_back(std::int32_t(all_neighbors[e]));
-        graph_borders.push_back(all_borders[e]);
-      }
-      graph.offsets.push_back(std::int64_t(graph.indices.size()));
-    }
-    const double mean = std::accumulate(value.begin(), value.end(), 0.0) / double(n);
-    std::vector<char> above(n);
-    for (std::size_t i = 0; i < n; ++i)
-      above[i] = value[i] > mean;
-    const auto labels = geom::label_regions(graph, above);
-    const int regions = n ? 1 + *std::max_element(labels.begin(), labels.end()) : 0;
-    std::vector<double> region_area(regions, 0.0), perimeter(regions, 0.0);
-    std::vector<int> region_cells(regions, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (labels[i] < 0)
+    std::vector<RegionShare> regions;
+    std::vector<RegionShare> sorted = gathered;
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [](const RegionShare& a, const RegionShare& b) { return a.label < b.label; });
+    for (const RegionShare& share : sorted) {
+      if (regions.empty() || regions.back().label != share.label) {
+        regions.push_back(share);
         continue;
-      region_area[labels[i]] += area[i];
-      ++region_cells[labels[i]];
-      for (auto e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e)
-        if (labels[graph.indices[e]] != labels[i])
-          perimeter[labels[i]] += graph_borders[e];
+      }
+      RegionShare& region = regions.back();
+      region.cells += share.cells;
+      for (std::size_t k = 0; k < share.area.size(); ++k) {
+        region.area[k] += share.area[k];
+        region.perimeter[k] += share.perimeter[k];
+      }
     }
     std::vector<double> elongation;
     double weighted_sum = 0, weight = 0;
-    for (int r = 0; r < regions; ++r)
-      if (region_cells[r] >= 4) {
-        elongation.push_back(perimeter[r] * perimeter[r] / (4.0 * M_PI * region_area[r]));
-        weighted_sum += region_cells[r] * elongation.back();
-        weight += region_cells[r];
-      }
+    std::int64_t above_cells = 0;
+    for (const RegionShare& region : regions) {
+      above_cells += region.cells;
+      if (region.cells < 4)
+        continue;
+      const double perimeter = par::SliceGrids::total(region.perimeter);
+      elongation.push_back(perimeter * perimeter /
+                           (4.0 * std::numbers::pi * par::SliceGrids::total(region.area)));
+      weighted_sum += double(region.cells) * elongation.back();
+      weight += double(region.cells);
+    }
     std::sort(elongation.begin(), elongation.end());
-    result[0] = regions;
-    result[1] = regions ? double(std::count(above.begin(), above.end(), 1)) / regions : 0.0;
+    const double count = double(regions.size());
+    result[0] = count;
+    result[1] = regions.empty() ? 0.0 : double(above_cells) / count;
     result[2] = elongation.empty() ? 0.0 : elongation[elongation.size() / 2];
     result[3] = elongation.empty() ? 0.0 : elongation.back();
     result[4] = weight > 0 ? weighted_sum / weight : 0.0;

@@ -21,8 +21,10 @@ struct PatternShapes {
   double weighted_elongation = 0;
 };
 
-/// Gathers the values at the owned cells to rank 0 and measures there; every rank gets the result.
-/// Collective.
+/// Measured where the cells lie: the mean as a reproducible sum, the regions labelled across
+/// ranks (geom::label_regions_across_ranks), each rank's share of a region's area and border as
+/// sliced partial sums that rank 0 adds region by region, so no rank holds every cell and the
+/// figures are the same bits on any number of ranks. Every rank gets the result. Collective.
 PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& cells,
                               std::span<const double> owned_values);
 
