@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
@@ -28,20 +29,25 @@ struct RegionShare {
 geom::CsrAdjacency local_graph(const geom::SurfaceCells& cells) {
   const auto& stencil = cells.neighbors();
   const std::int32_t owned = cells.owned_count();
-  const auto nodes = owned + std::int32_t(cells.ghost_ids().size());
-  std::vector<std::vector<std::int32_t>> rows(static_cast<std::size_t>(nodes));
+  const auto nodes = std::size_t(owned) + cells.ghost_ids().size();
+  geom::CsrAdjacency graph;
+  graph.offsets.assign(nodes + 1, 0);
+  for (std::int32_t i = 0; i < owned; ++i) {
+    graph.offsets[i + 1] += stencil.offsets[i + 1] - stencil.offsets[i];
+    for (const std::int32_t j : stencil.row(i))
+      if (j >= owned)
+        ++graph.offsets[j + 1];
+  }
+  for (std::size_t v = 0; v < nodes; ++v)
+    graph.offsets[v + 1] += graph.offsets[v];
+  graph.indices.resize(std::size_t(graph.offsets.back()));
+  std::vector<std::int64_t> next(graph.offsets.begin(), graph.offsets.end() - 1);
   for (std::int32_t i = 0; i < owned; ++i)
     for (const std::int32_t j : stencil.row(i)) {
-      rows[i].push_back(j);
+      graph.indices[next[i]++] = j;
       if (j >= owned)
-        rows[j].push_back(i);
+        graph.indices[next[j]++] = i;
     }
-  geom::CsrAdjacency graph;
-  graph.offsets.assign(1, 0);
-  for (const auto& row : rows) {
-    graph.indices.insert(graph.indices.end(), row.begin(), row.end());
-    graph.offsets.push_back(std::int64_t(graph.indices.size()));
-  }
   return graph;
 }
 
@@ -84,19 +90,18 @@ PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& c
   const par::SliceGrids area_grids = par::slice_grids_for(comm, cells.areas());
   const par::SliceGrids border_grids = par::slice_grids_for(comm, borders);
 
-  // This rank's share of each region, in label order.
+  // This rank's share of each region (in first-seen order: the sums are exact, so the order in
+  // which cells are added does not matter).
   std::vector<RegionShare> shares;
   {
-    std::vector<std::int32_t> order;
-    for (std::int32_t i = 0; i < owned; ++i)
-      if (labels[i] >= 0)
-        order.push_back(i);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::int32_t a, std::int32_t b) { return labels[a] < labels[b]; });
-    for (const std::int32_t i : order) {
-      if (shares.empty() || shares.back().label != labels[i])
+    std::unordered_map<std::int64_t, std::size_t> share_of;
+    for (std::int32_t i = 0; i < owned; ++i) {
+      if (labels[i] < 0)
+        continue;
+      const auto [at, added] = share_of.try_emplace(labels[i], shares.size());
+      if (added)
         shares.push_back({labels[i], 0, {}, {}});
-      RegionShare& share = shares.back();
+      RegionShare& share = shares[at->second];
       ++share.cells;
       area_grids.add(cells.areas()[i], share.area);
       for (std::int64_t e = stencil.offsets[i]; e < stencil.offsets[i + 1]; ++e)
