@@ -1,6 +1,7 @@
 #include "geom/distributed_mesh.hpp"
 
 #include "core/error.hpp"
+#include "core/stage_timers.hpp"
 #include "par/collective.hpp"
 #include "par/graph_partition.hpp"
 #include "par/morton_partition.hpp"
@@ -196,6 +197,7 @@ constexpr int kPartTag = 4711;
 DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh,
                                  PartitionMethod method)
     : comm_(comm), rank_(comm.rank), topology_(TriangleMesh{}) {
+  const double start_s = wall_seconds();
   std::unique_ptr<RootPartition> root;
   par::run_collectively(comm, [&] {
     if (comm.is_root())
@@ -225,6 +227,7 @@ DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root
     }
     part = root->part(0);
     root.reset();
+    root_seconds_ = wall_seconds() - start_s;
   } else {
     MPI_Status status;
     MPI_Probe(0, kPartTag, comm.raw, &status);
@@ -263,6 +266,7 @@ DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root
   MPI_Allreduce(mine, most_halo, 2, MPI_INT64_T, MPI_MAX, comm.raw);
   quality_.ghosts_max = most_halo[0];
   quality_.halo_max = most_halo[1];
+  MPI_Bcast(&root_seconds_, 1, MPI_DOUBLE, 0, comm.raw);
 }
 
 std::span<const std::int32_t> DistributedMesh::ghosts() const {

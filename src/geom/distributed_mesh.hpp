@@ -92,6 +92,9 @@ public:
   void update_halo(std::span<double> values, int components = 1) const;
 
   const PartitionQuality& quality() const { return quality_; }
+  /// Seconds rank 0 spent partitioning the whole mesh and cutting every rank's part: the serial
+  /// share of the construction (the rest, each rank setting up its own part, runs in parallel).
+  double root_seconds() const { return root_seconds_; }
 
 private:
   par::GhostedVector& halo_vector(int components) const;
@@ -108,6 +111,7 @@ private:
   std::vector<std::int32_t> assembly_triangles_;
   std::vector<std::int32_t> owned_triangles_;
   PartitionQuality quality_;
+  double root_seconds_ = 0;
   /// One PETSc ghosted vector per block size in use: the halo exchange plan is built once.
   mutable std::map<int, std::unique_ptr<par::GhostedVector>> halo_vectors_;
 };
