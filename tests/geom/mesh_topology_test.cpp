@@ -42,6 +42,51 @@ TEST(MeshTopology, QuadEdgesIncidencesAndBoundary) {
   EXPECT_EQ(topo.euler_characteristic(), 1);
 }
 
+TEST(MeshTopology, EdgesAreTheSortedDistinctSidesOfAnyMesh) {
+  // Against a brute-force reference: a sphere in shuffled vertex order, plus a fan of 60
+  // triangles around one hub vertex (a bucket too large for insertion), a repeated triangle and
+  // a degenerate one. Edges are the distinct sides in increasing (smaller, larger) order, and
+  // each edge lists its triangles in increasing order.
+  TriangleMesh mesh = icosphere(2);
+  const std::int32_t n = mesh.num_vertices();
+  for (auto& tri : mesh.triangles)
+    for (auto& v : tri)
+      v = (v * 37 + 11) % n; // 37 is prime to n = 162: a permutation
+  const std::int32_t hub = n;
+  mesh.positions.resize(std::size_t(n) + 1 + 60);
+  for (std::int32_t k = 0; k < 60; ++k)
+    mesh.triangles.push_back({hub, n + 1 + k, n + 1 + (k + 1) % 60});
+  mesh.triangles.push_back(mesh.triangles[5]);
+  mesh.triangles.push_back({3, 3, 7});
+  const MeshTopology topo(mesh);
+
+  std::set<std::pair<std::int32_t, std::int32_t>> sides;
+  for (const auto& tri : mesh.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const auto a = tri[(c + 1) % 3], b = tri[(c + 2) % 3];
+      sides.insert({std::min(a, b), std::max(a, b)});
+    }
+  ASSERT_EQ(std::size_t(topo.num_edges()), sides.size());
+  std::size_t e = 0;
+  for (const auto& [a, b] : sides) {
+    EXPECT_EQ(topo.edges()[e], (Edge{a, b})) << e;
+    std::vector<std::int32_t> expected;
+    for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      for (int c = 0; c < 3; ++c)
+        if (std::min(tri[(c + 1) % 3], tri[(c + 2) % 3]) == a &&
+            std::max(tri[(c + 1) % 3], tri[(c + 2) % 3]) == b) {
+          EXPECT_EQ(topo.triangle_edges(t)[c], std::int32_t(e));
+          if (expected.empty() || expected.back() != t)
+            expected.push_back(t);
+        }
+    }
+    const auto listed = topo.edge_triangles(std::int32_t(e));
+    EXPECT_EQ(std::vector<std::int32_t>(listed.begin(), listed.end()), expected) << e;
+    ++e;
+  }
+}
+
 TEST(MeshTopology, ClosedSphereEveryEdgeHasTwoTriangles) {
   const auto mesh = icosphere(3);
   const MeshTopology topo(mesh);
