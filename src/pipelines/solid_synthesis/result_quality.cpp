@@ -39,6 +39,8 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
   const int reach = finest.window / 2;
   TEXSIM_VERIFY(reach <= kSlabHalo, "a " << finest.window << "-voxel appearance window reaches "
                                          << "past the slab's " << kSlabHalo << "-plane halo");
+  // On every rank, so that an exemplar without a scale fails them all alike.
+  const double spread = appearance_spread(finest.features);
   const int dimension = finest.features.channels();
   const int n = slab.size();
   const PlaneRange planes = reported_planes(comm, slab, dims[2]);
@@ -63,7 +65,7 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
     double sum = 0.0;
     for (const double distance : all)
       sum += distance;
-    error = sum / static_cast<double>(all.size()) / appearance_spread(finest.features);
+    error = sum / static_cast<double>(all.size()) / spread;
   }
   MPI_Bcast(&error, 1, MPI_DOUBLE, 0, comm.raw);
   return error;
