@@ -3,35 +3,15 @@
 #include "core/error.hpp"
 #include "img/colour_histogram.hpp"
 #include "par/gather_to_root.hpp"
+#include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 
 #include <mpi.h>
 
-#include <algorithm>
 #include <span>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
-namespace {
-
-/// The exemplar colours at S on planes [k_first, k_first + planes) of the slab, x in [0, nx), y in
-/// [0, ny), x fastest.
-vol::ChannelGrid coloured_planes(const CoordinateSlab& slab, const vol::ChannelGrid& exemplar,
-                                 int nx, int ny, int k_first, int planes) {
-  vol::ChannelGrid colours(vol::Dims{nx, ny, planes}, exemplar.channels());
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < planes; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const Coord& c = slab.at(i, j, k_first + k);
-        const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-        std::copy(colour.begin(), colour.end(), colours.voxel(colours.index(i, j, k)).begin());
-      }
-  return colours;
-}
-
-} // namespace
-
 double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& slab,
                                 const std::array<int, 3>& dims, const AppearanceLevel& finest,
                                 const vol::ChannelGrid& exemplar_colours, int stride) {

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "par/collective.hpp"
 #include "par/gather_to_root.hpp"
+#include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "vol/cross_section_writer.hpp"
 #include "vol/parallel_vti_writer.hpp"
 #include "vol/vdb_io.hpp"
@@ -56,17 +57,11 @@ write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
   // Slabs are in z order by rank, so rank order is the volume's order; each plane is coloured as
   // it arrives and dropped.
   const std::size_t plane_voxels = std::size_t(dims[0]) * std::size_t(dims[1]);
-  std::vector<float> plane(plane_voxels * std::size_t(channels));
   int next_plane = 0;
-  const auto add_plane = [&](const auto& coordinate_of) {
-    for (std::size_t v = 0; v < plane_voxels; ++v) {
-      const Coord c = coordinate_of(v);
-      const auto colour = exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-      std::copy(colour.begin(), colour.end(), plane.begin() + std::ptrdiff_t(v * channels));
-    }
-    vdb->add_planes(plane);
+  const auto add_plane = [&](std::span<const float> colours) {
+    vdb->add_planes(colours);
     for (vol::CrossSections& s : sections)
-      s.add_planes(next_plane, plane);
+      s.add_planes(next_plane, colours);
     ++next_plane;
   };
   par::stream_to_root(
@@ -74,19 +69,21 @@ write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
       [&](int rank, std::span<const std::byte> bytes) {
         if (rank == comm.rank) {
           for (int k = planes.begin; k < planes.end; ++k)
-            add_plane([&](std::size_t v) {
-              return slab.at(int(v % std::size_t(dims[0])), int(v / std::size_t(dims[0])), k);
-            });
+            add_plane(coloured_planes(slab, exemplar, dims[0], dims[1], k, 1).data());
           return;
         }
         TEXSIM_VERIFY(bytes.size() % (plane_voxels * sizeof(Coord)) == 0,
                       "rank " << rank << " sent " << bytes.size() << " bytes, not whole planes");
-        for (std::size_t at = 0; at < bytes.size(); at += plane_voxels * sizeof(Coord))
-          add_plane([&](std::size_t v) {
+        std::vector<float> plane(plane_voxels * std::size_t(channels));
+        for (std::size_t at = 0; at < bytes.size(); at += plane_voxels * sizeof(Coord)) {
+          for (std::size_t v = 0; v < plane_voxels; ++v) {
             Coord c;
             std::memcpy(&c, bytes.data() + at + v * sizeof(Coord), sizeof(Coord));
-            return c;
-          });
+            const auto colour = colour_at(exemplar, c);
+            std::copy(colour.begin(), colour.end(), plane.begin() + std::ptrdiff_t(v * channels));
+          }
+          add_plane(plane);
+        }
       });
   std::vector<std::filesystem::path> written;
   // A file that cannot be written fails every rank, not rank 0 alone.
@@ -134,21 +131,19 @@ std::vector<std::filesystem::path> write_parallel_result(const par::Comm& comm,
           grid.at(i, j, k) = value_of(slab.at(i, j, z_first + k));
     return grid;
   };
-  const auto colour_of = [&](const Coord& c) {
-    return exemplar.voxel(exemplar.index(c.x, c.y, c.z));
-  };
   std::vector<std::filesystem::path> written;
   if (exemplar.channels() == 1) {
     std::optional<vol::ScalarGrid> density;
     if (has_piece)
-      density = filled(vol::ScalarGrid(piece), [&](const Coord& c) { return colour_of(c)[0]; });
+      density =
+          filled(vol::ScalarGrid(piece), [&](const Coord& c) { return colour_at(exemplar, c)[0]; });
     written.push_back(vol::write_parallel_vti(
         comm, dir, "solid_synthesis", {density ? &*density : nullptr, z_first}, dims, "density"));
   } else {
     std::optional<vol::RgbGrid> colour;
     if (has_piece)
       colour = filled(vol::RgbGrid(piece), [&](const Coord& c) {
-        const auto v = colour_of(c);
+        const auto v = colour_at(exemplar, c);
         return img::Rgb{v[0], v[1], v[2]};
       });
     written.push_back(vol::write_parallel_vti(
