@@ -2,10 +2,12 @@
 
 #include "geom/mesh_measures.hpp"
 #include "geom/surface_roughness.hpp"
+#include "par/reproducible_sum.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
+#include <vector>
 
 namespace texsim::geom {
 namespace {
@@ -32,14 +34,15 @@ double total_area(const DistributedMesh& mesh) {
 
 double mean_edge_length(const DistributedMesh& mesh) {
   const auto& surface = mesh.mesh();
-  double length = 0;
+  std::vector<double> lengths;
+  lengths.reserve(3 * mesh.owned_triangles().size());
   for (const std::int32_t t : mesh.owned_triangles()) {
     const auto& tri = surface.triangles[t];
     for (int i = 0; i < 3; ++i)
-      length += (surface.positions[tri[(i + 1) % 3]] - surface.positions[tri[i]]).norm();
+      lengths.push_back((surface.positions[tri[(i + 1) % 3]] - surface.positions[tri[i]]).norm());
   }
-  const auto [sum, edges] = summed(mesh, length, 3.0 * double(mesh.owned_triangles().size()));
-  return edges > 0 ? sum / edges : 0.0;
+  const double edges = 3.0 * double(mesh.global_triangle_count());
+  return edges > 0 ? par::reproducible_sum(mesh.comm(), lengths) / edges : 0.0;
 }
 
 double mean_normal_deviation_deg(const DistributedMesh& mesh) {

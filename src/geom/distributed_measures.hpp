@@ -9,7 +9,8 @@ namespace texsim::geom {
 /// Total area of the surface. Collective.
 double total_area(const DistributedMesh& mesh);
 
-/// Mean edge length over every triangle's three edges (as geom::mean_edge_length). Collective.
+/// Mean edge length over every triangle's three edges (as geom::mean_edge_length): the same bits
+/// at any rank count (par::reproducible_sum). Collective.
 double mean_edge_length(const DistributedMesh& mesh);
 
 /// As geom::mean_normal_deviation_deg on the whole surface. Collective.

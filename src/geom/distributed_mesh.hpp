@@ -2,19 +2,25 @@
 /// A triangle mesh split over ranks: each rank holds only its part, the vertices it owns plus
 /// a halo of the triangles within kHaloRings rings of them, never the whole surface.
 ///
+/// Rank 0 holds a coarse mesh, partitions its triangles and sends each rank its triangles and a
+/// few rings around them; each rank refines its part (patch_refinement: Loop or sphere rounds) and
+/// keeps the fine vertices it owns and their halo. Refining on the parts gives the same surface,
+/// bit for bit, as refining the whole coarse mesh: input ids are the hierarchical ids of
+/// patch_refinement (the coarse mesh's own ids without refinement), positions are the same bits.
+/// Rank 0 holds the whole surface only at the coarse level (docs/fem_rd.md, "Distribution").
+///
 /// Vertices are renumbered so that rank r owns the contiguous range [owner_begin[r],
 /// owner_begin[r+1]) of global ids (PETSc's ownership). The local mesh numbers its vertices
 /// owned first (global - owned_begin), then the ghosts (non-owned neighbours of owned vertices,
 /// increasing global id: the ghosts of a PETSc ghosted vector), then the rest of the halo
-/// (increasing global id). Its triangles are in increasing global triangle order.
+/// (increasing global id). Its triangles are ordered by their sorted input ids, the same order on
+/// every rank, so sums over a vertex's triangles do not depend on the partition.
 ///
 /// Three rings make per-vertex estimates that look two rings out (curvature with its vertex
 /// normals and boundary fits, the mesh-density function) exact at owned vertices; the ghosts'
 /// values then come from their owners (update_halo), never from an incomplete neighbourhood.
-///
-/// Rank 0 reads or generates the mesh, partitions it and sends each rank its part; that is the
-/// only time one rank holds the whole surface (docs/fem_rd.md, "Distribution").
 #include "geom/mesh_topology.hpp"
+#include "geom/patch_refinement.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 #include "par/ghosted_vector.hpp"
@@ -27,9 +33,10 @@
 
 namespace texsim::geom {
 
-/// How vertices are split across ranks: along a Morton curve of their positions (fast, balanced
-/// counts) or by Scotch on the vertex graph (smaller edge cut); both are pure functions of the
-/// mesh and the rank count.
+/// How the coarse triangles are split across ranks: along a Morton curve of their centroids (fast,
+/// balanced counts) or by Scotch on the graph of triangles sharing an edge (smaller edge cut); both
+/// are pure functions of the mesh and the rank count. A fine vertex belongs to the rank owning the
+/// coarse triangle of smallest id around the coarse cell it lies on.
 enum class PartitionMethod { kMorton, kScotch };
 
 struct PartitionQuality {
@@ -44,16 +51,18 @@ public:
   static constexpr int kHaloRings = 3;
 
   /// Partitions `root_mesh`, read on rank 0 (ignored on the other ranks), over `comm` and gives
-  /// each rank its part. Collective.
-  DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh, PartitionMethod method);
+  /// each rank its part, refined by `refinement` (the same steps on every rank). Collective.
+  DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh, PartitionMethod method,
+                  std::span<const RefinementStep> refinement = {});
 
   const par::Comm& comm() const { return comm_; }
 
   /// This rank's part: owned vertices, ghosts, outer halo (see above).
   const TriangleMesh& mesh() const { return mesh_; }
   const MeshTopology& topology() const { return topology_; }
-  /// Local vertex -> its id in the mesh given to the constructor (for random numbers, outputs and
-  /// checkpoints that must not depend on the partition).
+  /// Local vertex -> its id in the refined mesh (patch_refinement's hierarchical ids; without
+  /// refinement, its id in the mesh given to the constructor): for random numbers, outputs and
+  /// checkpoints that must not depend on the partition.
   const std::vector<std::int64_t>& input_id() const { return input_id_; }
   std::span<const std::int64_t> owned_input_ids() const {
     return std::span(input_id_).first(std::size_t(owned_count()));
@@ -92,8 +101,9 @@ public:
   void update_halo(std::span<double> values, int components = 1) const;
 
   const PartitionQuality& quality() const { return quality_; }
-  /// Seconds rank 0 spent partitioning the whole mesh and cutting every rank's part: the serial
-  /// share of the construction (the rest, each rank setting up its own part, runs in parallel).
+  /// Seconds rank 0 spent partitioning the coarse mesh and cutting every rank's part: the serial
+  /// share of the construction (the rest, each rank refining and setting up its own part, runs in
+  /// parallel).
   double root_seconds() const { return root_seconds_; }
 
 private:

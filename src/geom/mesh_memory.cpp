@@ -15,6 +15,8 @@ std::uint64_t base_triangles(const MeshSource& source) {
     return 2 * std::uint64_t(source.torus_segments[0]) * std::uint64_t(source.torus_segments[1]);
   case MeshGenerator::kBox:
     return 12 * std::uint64_t(source.box_cells_per_edge) * std::uint64_t(source.box_cells_per_edge);
+  case MeshGenerator::kPlane:
+    return 2 * std::uint64_t(source.box_cells_per_edge) * std::uint64_t(source.box_cells_per_edge);
   }
   return 0;
 }

@@ -77,12 +77,24 @@ MeshRepairOptions MeshSource::fix_repair_options() {
 }
 
 namespace {
+
+/// The icosphere level rank 0 generates; the levels above it are sphere rounds on the parts.
+int coarse_icosphere_level(const MeshSource& source) {
+  if (source.generator != MeshGenerator::kIcosphere || source.remesh)
+    return source.icosphere_level; // remeshing needs the whole surface
+  int level = 0;
+  while (level < source.icosphere_level &&
+         (std::int64_t{20} << (2 * level)) < kDistributedRefinementTriangles)
+    ++level;
+  return level;
+}
+
 TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
   switch (source.generator) {
   case MeshGenerator::kNone:
     return read_mesh(source.file, source.repair, repairs);
   case MeshGenerator::kIcosphere:
-    return icosphere(source.icosphere_level, source.radius);
+    return icosphere(coarse_icosphere_level(source), source.radius);
   case MeshGenerator::kTorus:
     return torus(source.major_radius, source.minor_radius, source.torus_segments[0],
                  source.torus_segments[1]);
@@ -93,14 +105,17 @@ TriangleMesh load_or_generate(const MeshSource& source, RepairReport* repairs) {
   }
   TEXSIM_VERIFY(false, "unhandled mesh generator");
 }
+
 } // namespace
 
-TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildReport* report) {
+SurfacePlan plan_surface(const MeshSource& source, MeshBuildReport* report) {
   MeshBuildReport built;
   built.from_file = source.generator == MeshGenerator::kNone;
   built.file = source.file;
   built.strict = source.repair.strict;
-  TriangleMesh mesh = load_or_generate(source, &built.repairs);
+  SurfacePlan plan;
+  TriangleMesh& mesh = plan.coarse;
+  mesh = load_or_generate(source, &built.repairs);
   for (auto& position : mesh.positions) {
     position *= source.scale;
     // Beyond this, squared lengths and areas overflow to infinity in every later computation.
@@ -125,8 +140,24 @@ TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildR
   }
   if (report != nullptr)
     *report = built;
-  if (source.subdivision_levels > 0)
-    mesh = loop_subdivide(mesh, source.subdivision_levels);
+  RefinementStep sphere{RefinementStep::Rule::kSphere, {0, 0, 0}, source.radius * source.scale};
+  plan.refinement.assign(std::size_t(source.icosphere_level - coarse_icosphere_level(source)),
+                         sphere);
+  int serial_loop = 0;
+  while (serial_loop < source.subdivision_levels && plan.refinement.empty() &&
+         (std::int64_t(mesh.num_triangles()) << (2 * serial_loop)) <
+             kDistributedRefinementTriangles)
+    ++serial_loop;
+  if (serial_loop > 0)
+    mesh = loop_subdivide(mesh, serial_loop);
+  plan.refinement.insert(plan.refinement.end(),
+                         std::size_t(source.subdivision_levels - serial_loop), RefinementStep{});
+  return plan;
+}
+
+TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildReport* report) {
+  auto plan = plan_surface(source, report);
+  TriangleMesh mesh = refine(plan.coarse, plan.refinement);
   if (source.noise_amplitude > 0)
     mesh = noisy(mesh, source.noise_amplitude * mean_edge_length(mesh), seed);
   return mesh;

@@ -9,12 +9,14 @@
 #include "core/run_report.hpp"
 #include "geom/mesh_remesh.hpp"
 #include "geom/mesh_validation.hpp"
+#include "geom/patch_refinement.hpp"
 #include "geom/triangle_mesh.hpp"
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 namespace texsim::geom {
 
@@ -60,9 +62,27 @@ struct MeshBuildReport {
   RepairReport remesh_repairs; ///< what the clean-up after remeshing removed
 };
 
+/// Rank 0 refines a surface no further than this many triangles (or than the config asks); the
+/// rounds beyond are left to the ranks' parts (DistributedMesh). A fixed count, so the coarse
+/// mesh, and with it every vertex id, is the same at any rank count.
+inline constexpr std::int64_t kDistributedRefinementTriangles = 65536;
+
+/// A surface as build_mesh() makes it, stopped where the refinement could go on in parallel: the
+/// coarse mesh (an icosphere at a lower level, or Loop-refined only to
+/// kDistributedRefinementTriangles) and the refinement rounds left (sphere rounds, then Loop
+/// rounds). Noise is not applied.
+struct SurfacePlan {
+  TriangleMesh coarse;
+  std::vector<RefinementStep> refinement;
+};
+
 /// Reads (with the repairs of geom::repair as `source.repair` says, reported through `report` when
-/// not null) or generates the mesh, scales it, remeshes it, refines it and perturbs it with noise
-/// keyed by `seed`. Serial; the same on every rank.
+/// not null) or generates the coarse mesh, scales it, remeshes it and refines it up to the
+/// distributed threshold. Serial.
+SurfacePlan plan_surface(const MeshSource& source, MeshBuildReport* report = nullptr);
+
+/// plan_surface(), the remaining rounds (geom::refine) and noise along the normals keyed by `seed`
+/// (noisy()): the whole surface. Serial; the same on every rank.
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed,
                         MeshBuildReport* report = nullptr);
 

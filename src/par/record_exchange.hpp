@@ -2,7 +2,8 @@
 /// Sending plain records to chosen ranks: every rank fills one outgoing list per destination and
 /// receives what all ranks addressed to it, concatenated in source-rank order. The counts go first
 /// (MPI_Alltoall), then the records as bytes (MPI_Alltoallv): the sparse, owner-computes exchange
-/// behind halos and reductions to owners. allgather_records is the every-rank-to-every-rank case.
+/// behind halos and reductions to owners. allgather_records is the every-rank-to-every-rank case,
+/// broadcast_records the rank-0-to-every-rank one.
 #include "core/error.hpp"
 #include "par/comm.hpp"
 
@@ -67,6 +68,17 @@ std::vector<Record> allgather_records(const Comm& comm, const std::vector<Record
   MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
                  comm.raw);
   return all;
+}
+
+/// Rank 0's `records` on every rank (the others' are replaced). Collective.
+template <typename Record> void broadcast_records(const Comm& comm, std::vector<Record>& records) {
+  static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
+  std::int64_t count = std::int64_t(records.size());
+  MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm.raw);
+  TEXSIM_VERIFY(std::size_t(count) * sizeof(Record) < std::size_t(INT32_MAX),
+                "broadcast_records: more than 2 GiB");
+  records.resize(std::size_t(count));
+  MPI_Bcast(records.data(), int(records.size() * sizeof(Record)), MPI_BYTE, 0, comm.raw);
 }
 
 } // namespace texsim::par

@@ -1,14 +1,16 @@
 // DistributedMesh keeps each rank's part only: every vertex and triangle is owned exactly once, no
 // rank holds more than its part and the halo it reports, the halo is complete to three rings
 // (curvature on the local part equals curvature on the whole surface at owned vertices), and
-// update_halo brings the owners' values. At 1, 2 and 3 ranks, on a generated sphere and on the
-// raw scanned bunny (holes, boundary vertices).
+// update_halo brings the owners' values. Refined on the parts (Loop and sphere rounds), the
+// surface is the serial refinement's, bit for bit. At 1, 2 and 3 ranks, on generated spheres and
+// squares and on the raw scanned bunny (holes, boundary vertices).
 #include "geom/curvature_tensor.hpp"
 #include "geom/distributed_measures.hpp"
 #include "geom/distributed_mesh.hpp"
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_reader.hpp"
+#include "geom/patch_refinement.hpp"
 #include "par/record_exchange.hpp"
 #include "support/gather_by_id.hpp"
 #include "support/test_data.hpp"
@@ -38,9 +40,17 @@ sorted_triples(std::vector<std::array<std::int64_t, 3>> t) {
   return t;
 }
 
-void check_ownership(const TriangleMesh& input, PartitionMethod method) {
+std::vector<RefinementStep> rounds(int count, RefinementStep step = {}) {
+  return std::vector<RefinementStep>(std::size_t(count), step);
+}
+
+/// `coarse` distributed and refined by `refinement` on the ranks' parts, against the whole mesh
+/// refined serially.
+void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
+                     const std::vector<RefinementStep>& refinement = {}) {
   const par::Comm comm = par::world();
-  const DistributedMesh mesh(comm, input, method);
+  const DistributedMesh mesh(comm, coarse, method, refinement);
+  const TriangleMesh input = refine(coarse, refinement);
   const std::int64_t n = input.num_vertices();
   ASSERT_EQ(mesh.global_count(), n);
   ASSERT_EQ(mesh.global_triangle_count(), input.num_triangles());
@@ -71,6 +81,11 @@ void check_ownership(const TriangleMesh& input, PartitionMethod method) {
     EXPECT_LT(held, n);
   for (std::int32_t local = 0; local < held; ++local)
     ASSERT_EQ(mesh.local_index(mesh.global_index(local)), local);
+
+  // Refined on the parts, every vertex the rank holds is the serial refinement's, bit for bit.
+  for (std::int32_t local = 0; local < held; ++local)
+    ASSERT_EQ(mesh.mesh().positions[local], input.positions[mesh.input_id()[local]])
+        << "vertex " << mesh.input_id()[local];
 
   // The halo is complete: owned vertices, ghosts and the next ring keep all their triangles.
   const MeshTopology whole(input);
@@ -135,6 +150,17 @@ TEST(DistributedMesh, EachRankHoldsItsPartAndACompleteHalo) {
   check_ownership(sphere, PartitionMethod::kScotch);
 }
 
+// Refinement on the parts: Loop rounds (n = 2 and 4: three and two coarse rings of halo) and
+// sphere rounds (n = 8: one ring), on a noisy sphere and on an open noisy square.
+TEST(DistributedMesh, RefiningThePartsGivesTheSerialRefinement) {
+  const auto sphere = noisy(icosphere(2), 0.05, 5);
+  check_ownership(sphere, PartitionMethod::kMorton, rounds(1));
+  check_ownership(sphere, PartitionMethod::kScotch, rounds(2));
+  const RefinementStep on_sphere{RefinementStep::Rule::kSphere, {0, 0, 0}, 2.0};
+  check_ownership(icosphere(1, 2.0), PartitionMethod::kMorton, rounds(3, on_sphere));
+  check_ownership(noisy(plane(Vec3(1, 1, 0), 8), 0.05, 6), PartitionMethod::kMorton, rounds(2));
+}
+
 TEST(DistributedMesh, UpdateHaloBringsTheOwnersValues) {
   check_halo_update(icosphere(4));
 }
@@ -145,6 +171,7 @@ TEST(DistributedMeshOnRealData, TheRawBunnyWithItsHolesSplitsExactly) {
     GTEST_SKIP() << test::missing_data_message("meshes/bunny00.off");
   const auto bunny = read_raw_mesh(path);
   check_ownership(bunny, PartitionMethod::kScotch);
+  check_ownership(bunny, PartitionMethod::kMorton, rounds(1));
   check_halo_update(bunny);
 }
 

@@ -1,9 +1,11 @@
+#include "geom/cgal_surface_mesh.hpp"
 #include "geom/generators.hpp"
 #include "geom/loop_subdivision.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/mesh_validation.hpp"
 
+#include <CGAL/subdivision_method_3.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,6 +68,44 @@ TEST(LoopSubdivision, SmoothsTowardsTheLimitSurfaceAndKeepsArea) {
     }
     previous_turn = turn;
   }
+}
+
+/// CGAL's Loop subdivision (Subdivision_method_3), an independent reference.
+TriangleMesh cgal_loop(const TriangleMesh& mesh, int levels) {
+  auto surface = cgal::to_surface_mesh(mesh, "cgal_loop");
+  CGAL::Subdivision_method_3::Loop_subdivision(surface,
+                                               CGAL::parameters::number_of_iterations(levels));
+  surface.collect_garbage();
+  return cgal::to_triangle_mesh(surface, "cgal_loop");
+}
+
+/// Largest distance from a vertex of `ours` to the nearest vertex of `reference`, over the
+/// mesh's size; and whether both have as many vertices and triangles.
+double farthest_vertex(const TriangleMesh& ours, const TriangleMesh& reference) {
+  EXPECT_EQ(ours.num_vertices(), reference.num_vertices());
+  EXPECT_EQ(ours.num_triangles(), reference.num_triangles());
+  double farthest = 0, size = 0;
+  for (const auto& p : ours.positions) {
+    double nearest = INFINITY;
+    for (const auto& q : reference.positions)
+      nearest = std::min(nearest, (p - q).norm());
+    farthest = std::max(farthest, nearest);
+    size = std::max(size, p.norm());
+  }
+  return farthest / size;
+}
+
+// The masks are CGAL's: the same surface, vertex for vertex, on a closed noisy sphere (valences 5
+// and 6, irregular positions) and on an open noisy square (the boundary masks).
+TEST(LoopSubdivision, EqualsCgalsLoopSubdivision) {
+  const auto sphere = noisy(icosphere(1), 0.05, 7);
+  EXPECT_LT(farthest_vertex(loop_subdivide(sphere, 2), cgal_loop(sphere, 2)), 1e-13);
+  const auto square = noisy(plane(Vec3(1, 1, 0), 3), 0.05, 8);
+  EXPECT_LT(farthest_vertex(loop_subdivide(square, 2), cgal_loop(square, 2)), 1e-13);
+  // The comparison sees one vertex moved by 1e-6.
+  auto skewed = loop_subdivide(square, 2);
+  skewed.positions.back() += Vec3(1e-6, 0, 0);
+  EXPECT_GT(farthest_vertex(skewed, cgal_loop(square, 2)), 1e-8);
 }
 
 } // namespace

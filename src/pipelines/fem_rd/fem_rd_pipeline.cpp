@@ -4,10 +4,13 @@
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
 #include "geom/distributed_measures.hpp"
+#include "geom/distributed_noise.hpp"
+#include "geom/mesh_source.hpp"
 #include "io/pvd_series.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "par/global_range.hpp"
+#include "par/record_exchange.hpp"
 #include "pipelines/fem_rd/frame_writer.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
 #include "pipelines/fem_rd/pattern_regions.hpp"
@@ -45,22 +48,27 @@ void FemRdPipeline::run(RunContext& ctx) {
 
   std::unique_ptr<geom::DistributedMesh> mesh;
   {
-    geom::TriangleMesh surface;
+    geom::SurfacePlan surface;
     {
-      // Rank 0 builds the surface (serial) ...
+      // Rank 0 builds the coarse surface (serial) ...
       auto stage = ctx.timers.scope("mesh");
       geom::MeshBuildReport built;
       par::run_collectively(comm, [&] {
         if (comm.is_root())
-          surface = geom::build_mesh(settings_.mesh, run.seed, &built);
+          surface = geom::plan_surface(settings_.mesh, &built);
       });
       if (comm.is_root()) // the summary and the log are rank 0's
         geom::record_mesh_build(built, report);
+      par::broadcast_records(comm, surface.refinement);
     }
-    // ... and sends each rank its part (partition.root_s of it serial on rank 0).
+    // ... sends each rank its part (partition.root_s of it serial on rank 0), which the rank
+    // refines.
     auto stage = ctx.timers.scope("distribution");
-    mesh = std::make_unique<geom::DistributedMesh>(comm, surface, settings_.partition);
+    mesh = std::make_unique<geom::DistributedMesh>(comm, surface.coarse, settings_.partition,
+                                                   surface.refinement);
     surface = {};
+    if (settings_.mesh.noise_amplitude > 0)
+      geom::add_normal_noise(*mesh, settings_.mesh.noise_amplitude, run.seed);
     const auto& quality = mesh->quality();
     report.metric("vertices", mesh->global_count());
     report.metric("triangles", mesh->global_triangle_count());

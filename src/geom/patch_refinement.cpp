@@ -1,0 +1,237 @@
+#include "geom/patch_refinement.hpp"
+
+#include "core/error.hpp"
+#include "geom/mesh_topology.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+namespace texsim::geom {
+namespace {
+
+/// Lattice weights of a point on a coarse triangle's three corners (they sum to the resolution).
+using Weights = std::array<std::int64_t, 3>;
+
+Weights operator+(const Weights& a, const Weights& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+
+/// The hierarchical id of a lattice point of a patch triangle (see the header).
+class HierarchicalIds {
+public:
+  HierarchicalIds(const CoarsePatch& patch, int rounds)
+      : patch_(patch), n_(std::int64_t{1} << rounds),
+        interior_begin_(patch.coarse_vertices + patch.coarse_edges * (n_ - 1)) {}
+
+  /// Id of the point of weights `w` (summing to `resolution`) on local coarse triangle t.
+  std::int64_t id(std::int32_t t, const Weights& w, std::int64_t resolution) const {
+    const std::int64_t scale = n_ / resolution;
+    const Weights fine = {w[0] * scale, w[1] * scale, w[2] * scale};
+    const auto& corners = patch_.mesh.triangles[t];
+    for (int c = 0; c < 3; ++c)
+      if (fine[c] == n_)
+        return patch_.vertex_id[corners[c]];
+    for (int c = 0; c < 3; ++c)
+      if (fine[c] == 0) { // on the edge opposite corner c
+        const int a = (c + 1) % 3, b = (c + 2) % 3;
+        // Steps from the edge's vertex of smaller id: the other end's weight.
+        const std::int64_t steps =
+            patch_.vertex_id[corners[a]] < patch_.vertex_id[corners[b]] ? fine[b] : fine[a];
+        return patch_.coarse_vertices + patch_.triangle_edge_id[t][c] * (n_ - 1) + steps - 1;
+      }
+    const std::int64_t i = fine[0], j = fine[1];
+    const std::int64_t per_triangle = (n_ - 1) * (n_ - 2) / 2;
+    return interior_begin_ + patch_.triangle_id[t] * per_triangle + (i - 1) * (n_ - 1) -
+           (i - 1) * i / 2 + (j - 1);
+  }
+
+private:
+  const CoarsePatch& patch_;
+  std::int64_t n_;
+  std::int64_t interior_begin_;
+};
+
+/// The patch after some rounds: its mesh, ids, and each triangle's coarse parent and the lattice
+/// weights of its corners at the current resolution.
+struct Level {
+  TriangleMesh mesh;
+  std::vector<std::int64_t> id;
+  std::vector<std::int32_t> parent;
+  std::vector<std::array<Weights, 3>> corner_weights;
+  std::int64_t resolution = 1;
+};
+
+/// Loop's new position of an old vertex: the boundary mask (6 v + b1 + b2) / 8 on a boundary, the
+/// interior mask (1 - c) v + c / k sum of the k neighbours otherwise, c = 5/8 - (3 + 2 cos(2 pi /
+/// k))^2 / 64. A vertex with other than two boundary neighbours (only at a patch's border, the
+/// input being edge-manifold) keeps its position.
+Vec3 loop_even(const Level& level, const MeshTopology& topology, std::int32_t v,
+               const std::vector<std::vector<std::int32_t>>& boundary_neighbours) {
+  const auto& p = level.mesh.positions;
+  const auto by_id = [&](std::int32_t a, std::int32_t b) { return level.id[a] < level.id[b]; };
+  if (!boundary_neighbours[v].empty()) {
+    if (boundary_neighbours[v].size() != 2)
+      return p[v];
+    auto ends = boundary_neighbours[v];
+    std::sort(ends.begin(), ends.end(), by_id);
+    return (6.0 * p[v] + p[ends[0]] + p[ends[1]]) / 8.0;
+  }
+  const auto row = topology.vertex_neighbors().row(v);
+  if (row.empty())
+    return p[v];
+  std::vector<std::int32_t> neighbours(row.begin(), row.end());
+  std::sort(neighbours.begin(), neighbours.end(), by_id);
+  Vec3 sum = Vec3::Zero();
+  for (const std::int32_t w : neighbours)
+    sum += p[w];
+  const double k = double(neighbours.size());
+  const double spread = 3.0 + 2.0 * std::cos(2.0 * std::numbers::pi / k);
+  const double c = 5.0 / 8.0 - spread * spread / 64.0;
+  return (1.0 - c) * p[v] + (c / k) * sum;
+}
+
+/// Position of the new vertex on edge e: Loop's (3 (a + b) + c + d) / 8 (c, d opposite the edge)
+/// or the midpoint on a boundary; the sphere rule's projected midpoint.
+Vec3 odd_position(const Level& level, const MeshTopology& topology, std::int32_t e,
+                  const RefinementStep& step) {
+  const auto& p = level.mesh.positions;
+  auto [a, b] = topology.edges()[e];
+  if (level.id[b] < level.id[a])
+    std::swap(a, b);
+  if (step.rule == RefinementStep::Rule::kSphere) {
+    const Vec3 centre(step.centre[0], step.centre[1], step.centre[2]);
+    return centre + step.radius * (0.5 * (p[a] + p[b]) - centre).normalized();
+  }
+  const auto around = topology.edge_triangles(e);
+  if (around.size() == 1)
+    return 0.5 * (p[a] + p[b]);
+  std::array<std::int32_t, 2> opposite{};
+  for (int k = 0; k < 2; ++k)
+    for (const std::int32_t corner : level.mesh.triangles[around[k]])
+      if (corner != a && corner != b)
+        opposite[k] = corner;
+  if (level.id[opposite[1]] < level.id[opposite[0]])
+    std::swap(opposite[0], opposite[1]);
+  return (3.0 * (p[a] + p[b]) + p[opposite[0]] + p[opposite[1]]) / 8.0;
+}
+
+Level refine_once(const Level& level, const RefinementStep& step, const HierarchicalIds& ids) {
+  const MeshTopology topology(level.mesh);
+  TEXSIM_VERIFY(
+      topology.non_manifold_edges().empty(),
+      "refine_patch: " << topology.non_manifold_edges().size()
+                       << " edges are shared by more than two triangles; repair the mesh");
+  const std::int32_t vertices = level.mesh.num_vertices();
+  const std::int32_t edges = topology.num_edges();
+  Level fine;
+  fine.resolution = 2 * level.resolution;
+  fine.mesh.positions.resize(std::size_t(vertices) + std::size_t(edges));
+  fine.id.resize(fine.mesh.positions.size(), -1);
+  std::copy(level.id.begin(), level.id.end(), fine.id.begin());
+
+  std::vector<std::vector<std::int32_t>> boundary_neighbours(static_cast<std::size_t>(vertices));
+  for (const std::int32_t e : topology.boundary_edges()) {
+    const auto [a, b] = topology.edges()[e];
+    boundary_neighbours[a].push_back(b);
+    boundary_neighbours[b].push_back(a);
+  }
+  for (std::int32_t v = 0; v < vertices; ++v)
+    fine.mesh.positions[v] = step.rule == RefinementStep::Rule::kLoop
+                                 ? loop_even(level, topology, v, boundary_neighbours)
+                                 : level.mesh.positions[v];
+  for (std::int32_t e = 0; e < edges; ++e)
+    fine.mesh.positions[vertices + e] = odd_position(level, topology, e, step);
+
+  const std::size_t triangles = level.mesh.triangles.size();
+  fine.mesh.triangles.reserve(4 * triangles);
+  fine.parent.reserve(4 * triangles);
+  fine.corner_weights.reserve(4 * triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const auto& corner = level.mesh.triangles[t];
+    const auto& w = level.corner_weights[t];
+    const Weights doubled[3] = {w[0] + w[0], w[1] + w[1], w[2] + w[2]};
+    // mid[i] sits on the side opposite corner i, weights the sum of that side's ends.
+    const Weights mid_weights[3] = {w[1] + w[2], w[2] + w[0], w[0] + w[1]};
+    std::array<std::int32_t, 3> mid{};
+    for (int i = 0; i < 3; ++i) {
+      mid[i] = vertices + topology.triangle_edges(std::int32_t(t))[i];
+      if (fine.id[mid[i]] < 0)
+        fine.id[mid[i]] = ids.id(level.parent[t], mid_weights[i], fine.resolution);
+    }
+    fine.mesh.triangles.push_back({corner[0], mid[2], mid[1]});
+    fine.corner_weights.push_back({doubled[0], mid_weights[2], mid_weights[1]});
+    fine.mesh.triangles.push_back({corner[1], mid[0], mid[2]});
+    fine.corner_weights.push_back({doubled[1], mid_weights[0], mid_weights[2]});
+    fine.mesh.triangles.push_back({corner[2], mid[1], mid[0]});
+    fine.corner_weights.push_back({doubled[2], mid_weights[1], mid_weights[0]});
+    fine.mesh.triangles.push_back({mid[0], mid[1], mid[2]});
+    fine.corner_weights.push_back({mid_weights[0], mid_weights[1], mid_weights[2]});
+    for (int child = 0; child < 4; ++child)
+      fine.parent.push_back(level.parent[t]);
+  }
+  return fine;
+}
+
+} // namespace
+
+CoarsePatch CoarsePatch::whole(const TriangleMesh& mesh) {
+  const MeshTopology topology(mesh);
+  CoarsePatch patch;
+  patch.mesh = mesh;
+  patch.vertex_id.resize(mesh.positions.size());
+  std::iota(patch.vertex_id.begin(), patch.vertex_id.end(), 0);
+  patch.triangle_id.resize(mesh.triangles.size());
+  std::iota(patch.triangle_id.begin(), patch.triangle_id.end(), 0);
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const auto& edges = topology.triangle_edges(t);
+    patch.triangle_edge_id.push_back({edges[0], edges[1], edges[2]});
+  }
+  patch.coarse_vertices = mesh.num_vertices();
+  patch.coarse_edges = topology.num_edges();
+  return patch;
+}
+
+std::int64_t refined_vertex_count(std::int64_t vertices, std::int64_t edges, std::int64_t triangles,
+                                  int rounds) {
+  const std::int64_t n = std::int64_t{1} << rounds;
+  return vertices + edges * (n - 1) + triangles * ((n - 1) * (n - 2) / 2);
+}
+
+RefinedPatch refine_patch(const CoarsePatch& patch, std::span<const RefinementStep> steps) {
+  TEXSIM_VERIFY(steps.size() <= 20, "refine_patch: " << steps.size() << " rounds is too many");
+  const HierarchicalIds ids(patch, int(steps.size()));
+  Level level;
+  level.mesh = patch.mesh;
+  level.id = patch.vertex_id;
+  level.parent.resize(patch.mesh.triangles.size());
+  std::iota(level.parent.begin(), level.parent.end(), 0);
+  level.corner_weights.assign(patch.mesh.triangles.size(),
+                              {Weights{1, 0, 0}, Weights{0, 1, 0}, Weights{0, 0, 1}});
+  for (const auto& step : steps)
+    level = refine_once(level, step, ids);
+  return {std::move(level.mesh), std::move(level.id), std::move(level.parent)};
+}
+
+TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps) {
+  if (steps.empty())
+    return mesh;
+  const auto patch = CoarsePatch::whole(mesh);
+  const auto refined = refine_patch(patch, steps);
+  const std::int64_t count = refined_vertex_count(patch.coarse_vertices, patch.coarse_edges,
+                                                  mesh.num_triangles(), int(steps.size()));
+  TEXSIM_VERIFY(std::int64_t(refined.vertex_id.size()) == count && count < INT32_MAX,
+                "refine: " << refined.vertex_id.size() << " vertices, expected " << count);
+  TriangleMesh out;
+  out.positions.resize(std::size_t(count));
+  for (std::size_t v = 0; v < refined.vertex_id.size(); ++v)
+    out.positions[std::size_t(refined.vertex_id[v])] = refined.mesh.positions[v];
+  out.triangles = refined.mesh.triangles;
+  for (auto& triangle : out.triangles)
+    for (auto& v : triangle)
+      v = std::int32_t(refined.vertex_id[v]);
+  return out;
+}
+
+} // namespace texsim::geom

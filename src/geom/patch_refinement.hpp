@@ -1,0 +1,78 @@
+#pragma once
+/// Rounds of 1-to-4 triangle refinement applied to a patch of a coarse mesh, with vertex ids that
+/// do not depend on the patch: the same fine vertex gets the same id and the same position bits
+/// whether the whole mesh is refined at once or each rank refines its own patch. This is what lets
+/// fem_rd refine a surface on the ranks' parts (DistributedMesh) instead of on rank 0 alone.
+///
+/// After R rounds (n = 2^R), the fine vertices of a coarse mesh with V vertices, E edges and T
+/// triangles are the points of a barycentric lattice of step 1/n on every coarse triangle. Their
+/// ids, the hierarchical numbering:
+///   coarse vertex v                                  -> v
+///   point s steps (1..n-1) along coarse edge e,
+///     counted from its vertex of smaller id          -> V + e (n - 1) + s - 1
+///   interior point of coarse triangle t with lattice
+///     weights (i, j, n - i - j) on its corners        -> V + E (n - 1) + t (n-1)(n-2)/2 + index(i,
+///     j)
+/// Edge ids are MeshTopology's on the whole coarse mesh.
+///
+/// Loop rounds (Loop 1987, the masks CGAL's Loop_mask_3 uses) move every vertex by a mask over
+/// its one-ring, and sphere rounds put the edge midpoints back on a sphere (icosphere refinement).
+/// Each mask adds its terms in increasing id order, so a vertex's bits depend only on its
+/// neighbours' bits. A vertex's position after R rounds depends on the coarse triangles that share
+/// a vertex with the coarse cell it lies on: a patch gives exact positions on the coarse triangles
+/// whose one-ring it holds, and arbitrary ones near its own border (the mesh's true boundaries and
+/// the patch's border both follow the boundary rule).
+#include "geom/triangle_mesh.hpp"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace texsim::geom {
+
+/// One round of refinement: every triangle split into four at its edge midpoints, and where the
+/// vertices go.
+struct RefinementStep {
+  enum class Rule : std::int32_t {
+    kLoop,  ///< Loop's masks: the surface approaches Loop's C2 limit surface (boundary: cubic
+            ///< B-spline)
+    kSphere ///< midpoints projected onto the sphere (centre, radius); old vertices stay
+  };
+  Rule rule = Rule::kLoop;
+  std::array<double, 3> centre{0, 0, 0}; ///< plain doubles: steps travel between ranks as bytes
+  double radius = 1.0;
+};
+
+/// Coarse triangles to refine, in local numbering, with their ids on the whole coarse mesh.
+struct CoarsePatch {
+  TriangleMesh mesh;
+  std::vector<std::int64_t> vertex_id;   ///< coarse vertex id of each local vertex
+  std::vector<std::int64_t> triangle_id; ///< coarse triangle id of each local triangle
+  /// Coarse edge ids of each local triangle; entry i is the edge opposite corner i.
+  std::vector<std::array<std::int64_t, 3>> triangle_edge_id;
+  std::int64_t coarse_vertices = 0; ///< V and E of the whole coarse mesh (the id layout)
+  std::int64_t coarse_edges = 0;
+
+  /// The whole of `mesh` as one patch (edge ids from its MeshTopology).
+  static CoarsePatch whole(const TriangleMesh& mesh);
+};
+
+struct RefinedPatch {
+  TriangleMesh mesh;
+  std::vector<std::int64_t> vertex_id; ///< hierarchical id of each vertex (see above)
+  std::vector<std::int32_t> parent;    ///< local coarse triangle each fine triangle lies in
+};
+
+/// Number of vertices of the whole mesh after `rounds` rounds: V + E (n - 1) + T (n-1)(n-2)/2.
+std::int64_t refined_vertex_count(std::int64_t vertices, std::int64_t edges, std::int64_t triangles,
+                                  int rounds);
+
+/// Applies `steps` in order to `patch`. Fine triangles keep their coarse triangle's orientation.
+/// Throws texsim::Error on an edge shared by more than two triangles. Serial.
+RefinedPatch refine_patch(const CoarsePatch& patch, std::span<const RefinementStep> steps);
+
+/// The whole mesh refined by `steps`, vertex i being the fine vertex of hierarchical id i. Serial.
+TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps);
+
+} // namespace texsim::geom
