@@ -294,7 +294,8 @@ void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
   const CounterRng hash(options_.seed, kJitterStream);
   const LevelLayout& layout = slab.layout();
   const int n = layout.size;
-  const double amplitude = spacing(level) * options_.jitter;
+  const double amplitude =
+      spacing(level) * (level == options_.levels ? options_.finest_jitter : options_.jitter);
 #pragma omp parallel for schedule(static)
   for (int k = layout.z_begin; k < layout.z_end; ++k)
     for (int j = 0; j < n; ++j)
@@ -308,6 +309,11 @@ void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
         slab.at(i, j, k) = wrapped(slab.at(i, j, k) + Coord{offset(0), offset(1), offset(2)});
       }
 }
+
+/// Fixed-point resolution of the pass sums: 2^-20 of a squared appearance distance per voxel, far
+/// below what a pass changes, and 2^63 leaves room for 2^43 units, e.g. 10^4 per voxel on 2^30
+/// voxels.
+constexpr int kFixedBits = 20;
 
 bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
                                  const std::optional<LevelJacobians>& jacobians, LevelStats& stats,
@@ -331,9 +337,13 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   const int half = std::max(1, n / 2);
   const int planes = layout.z_end - layout.z_begin;
   std::vector<Coord> updates(static_cast<std::size_t>(half) * half * std::max(1, (planes + 1) / 2));
+  // Replicated levels are computed in full on every rank: count them once.
+  const bool counted = !layout.replicated || comm_.rank == 0;
   double distance_sum = 0.0;
+  std::int64_t previous_fixed = 0;
   for (int pass = 0; pass < options_.correction_passes; ++pass) {
-    const bool last_pass = pass + 1 == options_.correction_passes;
+    double pass_sum = 0.0;
+    std::int64_t pass_fixed = 0; // distances in units of 2^-kFixedBits: an exact, ordered-free sum
     for (int subpass = 0; subpass < 8; ++subpass) {
       const int cx = subpass & 1, cy = (subpass >> 1) & 1, cz = (subpass >> 2) & 1;
       if (n < 2 && subpass != 0)
@@ -346,7 +356,8 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
       const int class_planes = first_k < layout.z_end ? (layout.z_end - first_k + 1) / 2 : 0;
       const int row = half;
       double subpass_distance = 0.0;
-#pragma omp parallel reduction(+ : subpass_distance)
+      std::int64_t subpass_fixed = 0;
+#pragma omp parallel reduction(+ : subpass_distance, subpass_fixed)
       {
         StencilCache stencils(h);
         MatchScratch scratch(exemplar);
@@ -363,6 +374,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
                   best_match(slab, i, j, k, stencil, exemplar, incoherent_scale, scratch);
               updates[(static_cast<std::size_t>(plane) * row + b) * row + a] = wrapped(best);
               subpass_distance += distance;
+              subpass_fixed += std::llround(std::ldexp(distance, kFixedBits));
             }
         }
       }
@@ -371,14 +383,24 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
           for (int a = 0; a < row; ++a)
             slab.at(2 * a + cx, 2 * b + cy, first_k + 2 * plane) =
                 updates[(static_cast<std::size_t>(plane) * row + b) * row + a];
-      if (last_pass)
-        distance_sum += subpass_distance;
+      pass_sum += subpass_distance;
+      pass_fixed += subpass_fixed;
     }
+    distance_sum = pass_sum;
+    ++stats.passes;
+    if (!counted)
+      pass_fixed = 0;
+    MPI_Allreduce(MPI_IN_PLACE, &pass_fixed, 1, MPI_INT64_T, MPI_SUM, comm_.raw);
+    stats.pass_distances.push_back(std::ldexp(double(pass_fixed), -kFixedBits) /
+                                   (double(n) * n * n));
+    if (options_.min_improvement && pass > 0 &&
+        double(pass_fixed) > (1.0 - *options_.min_improvement) * double(previous_fixed))
+      break;
+    previous_fixed = pass_fixed;
   }
   slab.exchange_halo(comm_);
   ++stats.halo_exchanges;
-  // Replicated levels are computed in full on every rank: count them once.
-  const double local = layout.replicated && comm_.rank != 0 ? 0.0 : distance_sum;
+  const double local = counted ? distance_sum : 0.0;
   double total = 0.0;
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_.raw);
   stats.mean_match_distance = total / (double(n) * n * n);

@@ -60,6 +60,8 @@ nlohmann::json level_json(const par::Comm& comm, const LevelStats& stats,
       {"replicated", layout.replicated && comm.size > 1},
       {"voxels_max_rank", owned},
       {"halo_exchanges", stats.halo_exchanges},
+      {"passes", stats.passes},
+      {"pass_mean_match_distances", stats.pass_distances},
       {"ranks_computing", layout.replicated ? comm.size : layout.ranks},
       {"halo_bytes_per_exchange", split ? 2 * kSlabHalo * plane * std::int64_t{sizeof(Coord)} : 0}};
 }
@@ -186,7 +188,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
               ? log::cat(", split over ", slab->layout().ranks, " ranks, the others waiting")
               : std::string(),
           stats.corrected ? ", corrected" : ", not corrected",
-          stats.corrected ? log::cat(", mean match distance ", stats.mean_match_distance)
+          stats.corrected ? log::cat(", ", stats.passes, stats.passes == 1 ? " pass" : " passes",
+                                     ", mean match distance ", stats.mean_match_distance)
                           : std::string()));
       const auto decision = clock.after_step(level);
       if (decision.checkpoint || (run.checkpoint_every > 0 && level == pyramid_levels)) {
@@ -225,10 +228,16 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     const double error = slab_neighbourhood_error(comm, *slab, settings_.dims, space.levels.front(),
                                                   space.colours, stride);
     const double histogram = slab_histogram_distance(comm, *slab, settings_.dims, space.colours);
-    report.metric("quality", {{"neighbourhood_error", error},
+    nlohmann::json quality = {{"neighbourhood_error", error},
                               {"neighbourhood_error_stride", stride},
                               {"histogram_distance", histogram},
-                              {"incoherent_fraction", incoherent}});
+                              {"incoherent_fraction", incoherent}};
+    // A rotated or warped copy has no constant offset: isometric runs only.
+    quality["largest_offset_share"] =
+        field ? nlohmann::json()
+              : nlohmann::json(
+                    largest_offset_share(comm, *slab, space.colours.dims(), settings_.dims));
+    report.metric("quality", quality);
     log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram,
                        ", incoherent voxels ", incoherent));
   }

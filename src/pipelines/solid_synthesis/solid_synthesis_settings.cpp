@@ -68,8 +68,13 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
   settings.synthesis.levels = levels_for(settings.dims);
   settings.synthesis.jitter =
       synthesis.get<double>("jitter", settings.synthesis.jitter, in_range(0.0, 4.0));
+  settings.synthesis.finest_jitter =
+      synthesis.get<double>("finest_jitter", settings.synthesis.finest_jitter, in_range(0.0, 4.0));
   settings.synthesis.correction_passes =
       synthesis.get<int>("passes", settings.synthesis.correction_passes, int_in_range(0, 16));
+  if (synthesis.has("min_improvement"))
+    settings.synthesis.min_improvement =
+        synthesis.require<double>("min_improvement", in_range(0.0, 1.0));
   settings.synthesis.coherence =
       synthesis.get<double>("coherence", settings.synthesis.coherence, in_range(0.0, 100.0));
   settings.metric_stride = synthesis.get<int>("metric_stride", 0, non_negative_int());

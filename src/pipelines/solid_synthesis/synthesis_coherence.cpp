@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
 
@@ -51,6 +52,33 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
   std::int64_t totals[2] = {incoherent, voxels};
   MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_INT64_T, MPI_SUM, comm.raw);
   return totals[1] > 0 ? double(totals[0]) / double(totals[1]) : 0.0;
+}
+
+double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
+                            const vol::Dims& exemplar, const std::array<int, 3>& crop) {
+  const LevelLayout& layout = slab.layout();
+  const bool counts = !layout.replicated || comm.is_root();
+  const int z_end = counts ? std::min(layout.z_end, crop[2]) : layout.z_begin;
+  std::vector<std::int64_t> voxels_per_offset(std::size_t(exemplar.nx) * exemplar.ny * exemplar.nz);
+  for (int k = layout.z_begin; k < z_end; ++k)
+    for (int j = 0; j < crop[1]; ++j)
+      for (int i = 0; i < crop[0]; ++i) {
+        const Coord s = slab.at(i, j, k);
+        const std::size_t offset =
+            (std::size_t(vol::ChannelGrid::wrap(s.z - k, exemplar.nz)) * exemplar.ny +
+             std::size_t(vol::ChannelGrid::wrap(s.y - j, exemplar.ny))) *
+                exemplar.nx +
+            std::size_t(vol::ChannelGrid::wrap(s.x - i, exemplar.nx));
+        ++voxels_per_offset[offset];
+      }
+  MPI_Allreduce(MPI_IN_PLACE, voxels_per_offset.data(), int(voxels_per_offset.size()), MPI_INT64_T,
+                MPI_SUM, comm.raw);
+  std::int64_t total = 0, most = 0;
+  for (const std::int64_t count : voxels_per_offset) {
+    total += count;
+    most = std::max(most, count);
+  }
+  return total > 0 ? double(most) / double(total) : 0.0;
 }
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -21,4 +21,12 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
                            const std::array<int, 3>& crop);
 
+/// Fraction of the voxels of the box [0, crop) that share the most common offset S(p) - p
+/// (modulo the exemplar size): 1 / (number of voxels) for a volume of isolated copies, near 1 for
+/// one shifted copy of the exemplar. Read with incoherent_fraction: low incoherence says little
+/// when one offset holds most of the volume. Meaningful for isometric synthesis only (a rotated
+/// copy has no constant offset). Collective: one count per exemplar voxel, summed over ranks.
+double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
+                            const vol::Dims& exemplar, const std::array<int, 3>& crop);
+
 } // namespace texsim::pipelines::solid_synthesis
