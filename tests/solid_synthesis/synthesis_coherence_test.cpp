@@ -65,8 +65,8 @@ TEST(IncoherentFraction, ARoundedRotatedCopyIsCoherent) {
                                              layout.z_begin, layout.z_end, kSize);
   const Eigen::Matrix3f a = turned.a(0, 0, layout.z_begin);
   const auto copy = [&](int i, int j, int k) {
-    const Eigen::Vector3f s = a * Eigen::Vector3f(float(i), float(j), float(k)) +
-                              Eigen::Vector3f(3.3f, 7.6f, 1.2f);
+    const Eigen::Vector3f s =
+        a * Eigen::Vector3f(float(i), float(j), float(k)) + Eigen::Vector3f(3.3f, 7.6f, 1.2f);
     return Coord{int(std::floor(s.x() + 0.5f)), int(std::floor(s.y() + 0.5f)),
                  int(std::floor(s.z() + 0.5f))};
   };

@@ -388,7 +388,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                            {"cells_per_region", shapes.mean_cells},
                                            {"median_elongation", shapes.median_elongation},
                                            {"max_elongation", shapes.max_elongation},
-                                           {"weighted_elongation", shapes.weighted_elongation}};
+                                           {"weighted_elongation", shapes.weighted_elongation},
+                                           {"median_aspect", shapes.median_aspect},
+                                           {"weighted_aspect", shapes.weighted_aspect}};
     }
     const auto shown_shapes = measure_pattern(comm, cells, stage_run.shown(earlier));
     stage_metrics[stage.name] = {{"steps", stage.steps},
@@ -400,7 +402,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                  {"shown",
                                   {{"expression", stage.show},
                                    {"regions_above_mean", shown_shapes.regions},
-                                   {"median_elongation", shown_shapes.median_elongation}}}};
+                                   {"median_elongation", shown_shapes.median_elongation},
+                                   {"median_aspect", shown_shapes.median_aspect}}}};
     for (const auto& [name, values] : carried)
       earlier[stage.name + "_" + name] = values;
   }
