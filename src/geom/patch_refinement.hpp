@@ -35,8 +35,8 @@ namespace texsim::geom {
 /// vertices go.
 struct RefinementStep {
   enum class Rule : std::int32_t {
-    kLoop,  ///< Loop's masks: the surface approaches Loop's C2 limit surface (boundary: cubic
-            ///< B-spline)
+    kLoop,  ///< Loop's masks: towards Loop's limit surface (C2 except at extraordinary vertices;
+            ///< boundaries: cubic B-splines)
     kSphere ///< midpoints projected onto the sphere (centre, radius); old vertices stay
   };
   Rule rule = Rule::kLoop;
