@@ -41,9 +41,7 @@ int coarse_halo_rings(int rounds) {
 class CoarsePartition {
 public:
   CoarsePartition(const TriangleMesh& coarse, PartitionMethod method, int ranks, int rings)
-      : mesh_(coarse), topology_(coarse), rings_(rings),
-        triangle_stamp_(coarse.triangles.size(), -1), vertex_stamp_(coarse.positions.size(), -1),
-        local_of_(coarse.positions.size(), -1) {
+      : mesh_(coarse), topology_(coarse), cutter_(coarse, topology_), rings_(rings) {
     const std::int32_t triangles = coarse.num_triangles();
     std::vector<int> owner(std::size_t(triangles), 0);
     if (ranks > 1 && method == PartitionMethod::kMorton) {
@@ -79,71 +77,20 @@ public:
 
   /// Rank r's triangles and `rings` rings of triangles sharing a vertex with them.
   CoarsePart part(int r) {
-    std::vector<std::int32_t> triangles = by_rank_[r];
-    std::vector<std::int32_t> ring_of(triangles.size(), 0);
-    for (const std::int32_t t : triangles)
-      triangle_stamp_[t] = r;
-    std::size_t ring_begin = 0;
-    for (int ring = 1; ring <= rings_; ++ring) {
-      const std::size_t ring_end = triangles.size();
-      for (std::size_t k = ring_begin; k < ring_end; ++k)
-        for (const std::int32_t v : mesh_.triangles[triangles[k]]) {
-          if (vertex_stamp_[v] == r)
-            continue;
-          vertex_stamp_[v] = r;
-          for (const std::int32_t t : topology_.vertex_triangles().row(v))
-            if (triangle_stamp_[t] != r) {
-              triangle_stamp_[t] = r;
-              triangles.push_back(t);
-              ring_of.push_back(ring);
-            }
-        }
-      ring_begin = ring_end;
-    }
-    // Local numbering: triangles by increasing id, vertices by increasing id.
-    std::vector<std::size_t> order(triangles.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return triangles[a] < triangles[b]; });
-    std::vector<std::int32_t> vertices;
-    for (const std::int32_t t : triangles)
-      for (const std::int32_t v : mesh_.triangles[t])
-        vertices.push_back(v);
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-
     CoarsePart part;
-    auto& patch = part.patch;
-    patch.coarse_vertices = mesh_.num_vertices();
-    patch.coarse_edges = topology_.num_edges();
-    for (std::size_t local = 0; local < vertices.size(); ++local) {
-      local_of_[vertices[local]] = std::int32_t(local);
-      patch.mesh.positions.push_back(mesh_.positions[vertices[local]]);
-      patch.vertex_id.push_back(vertices[local]);
-    }
-    for (const std::size_t k : order) {
-      const std::int32_t t = triangles[k];
-      const auto& tri = mesh_.triangles[t];
-      patch.mesh.triangles.push_back({local_of_[tri[0]], local_of_[tri[1]], local_of_[tri[2]]});
-      patch.triangle_id.push_back(t);
-      const auto& edges = topology_.triangle_edges(t);
-      patch.triangle_edge_id.push_back({edges[0], edges[1], edges[2]});
+    part.patch = cutter_.cut(by_rank_[r], rings_, &part.triangle_ring);
+    for (const std::int64_t t : part.patch.triangle_id)
       part.triangle_owner.push_back(owner_[t]);
-      part.triangle_ring.push_back(ring_of[k]);
-    }
     return part;
   }
 
 private:
   const TriangleMesh& mesh_;
   MeshTopology topology_;
+  PatchCutter cutter_;
   int rings_;
   std::vector<std::int32_t> owner_;
   std::vector<std::vector<std::int32_t>> by_rank_;
-  // Scratch of part(): the last rank whose part met each triangle and vertex.
-  std::vector<int> triangle_stamp_;
-  std::vector<int> vertex_stamp_;
-  std::vector<std::int32_t> local_of_;
 };
 
 /// Writes arrays of plain values into one message, each after its length.

@@ -193,6 +193,68 @@ CoarsePatch CoarsePatch::whole(const TriangleMesh& mesh) {
   return patch;
 }
 
+PatchCutter::PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology)
+    : mesh_(mesh), topology_(topology), triangle_stamp_(mesh.triangles.size(), -1),
+      vertex_stamp_(mesh.positions.size(), -1), local_of_(mesh.positions.size(), -1) {}
+
+CoarsePatch PatchCutter::cut(std::span<const std::int32_t> seeds, int rings,
+                             std::vector<std::int32_t>* ring_of) {
+  const int stamp = cut_count_++;
+  std::vector<std::int32_t> triangles(seeds.begin(), seeds.end());
+  std::vector<std::int32_t> ring(triangles.size(), 0);
+  for (const std::int32_t t : triangles)
+    triangle_stamp_[t] = stamp;
+  std::size_t ring_begin = 0;
+  for (int r = 1; r <= rings; ++r) {
+    const std::size_t ring_end = triangles.size();
+    for (std::size_t k = ring_begin; k < ring_end; ++k)
+      for (const std::int32_t v : mesh_.triangles[triangles[k]]) {
+        if (vertex_stamp_[v] == stamp)
+          continue;
+        vertex_stamp_[v] = stamp;
+        for (const std::int32_t t : topology_.vertex_triangles().row(v))
+          if (triangle_stamp_[t] != stamp) {
+            triangle_stamp_[t] = stamp;
+            triangles.push_back(t);
+            ring.push_back(r);
+          }
+      }
+    ring_begin = ring_end;
+  }
+  std::vector<std::size_t> order(triangles.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return triangles[a] < triangles[b]; });
+  std::vector<std::int32_t> vertices;
+  for (const std::int32_t t : triangles)
+    for (const std::int32_t v : mesh_.triangles[t])
+      vertices.push_back(v);
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+
+  CoarsePatch patch;
+  patch.coarse_vertices = mesh_.num_vertices();
+  patch.coarse_edges = topology_.num_edges();
+  for (std::size_t local = 0; local < vertices.size(); ++local) {
+    local_of_[vertices[local]] = std::int32_t(local);
+    patch.mesh.positions.push_back(mesh_.positions[vertices[local]]);
+    patch.vertex_id.push_back(vertices[local]);
+  }
+  if (ring_of != nullptr)
+    ring_of->clear();
+  for (const std::size_t k : order) {
+    const std::int32_t t = triangles[k];
+    const auto& tri = mesh_.triangles[t];
+    patch.mesh.triangles.push_back({local_of_[tri[0]], local_of_[tri[1]], local_of_[tri[2]]});
+    patch.triangle_id.push_back(t);
+    const auto& edges = topology_.triangle_edges(t);
+    patch.triangle_edge_id.push_back({edges[0], edges[1], edges[2]});
+    if (ring_of != nullptr)
+      ring_of->push_back(ring[k]);
+  }
+  return patch;
+}
+
 std::int64_t refined_vertex_count(std::int64_t vertices, std::int64_t edges, std::int64_t triangles,
                                   int rounds) {
   const std::int64_t n = std::int64_t{1} << rounds;

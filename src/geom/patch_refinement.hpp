@@ -22,6 +22,7 @@
 /// a vertex with the coarse cell it lies on: a patch gives exact positions on the coarse triangles
 /// whose one-ring it holds, and arbitrary ones near its own border (the mesh's true boundaries and
 /// the patch's border both follow the boundary rule).
+#include "geom/mesh_topology.hpp"
 #include "geom/triangle_mesh.hpp"
 
 #include <array>
@@ -56,6 +57,29 @@ struct CoarsePatch {
 
   /// The whole of `mesh` as one patch (edge ids from its MeshTopology).
   static CoarsePatch whole(const TriangleMesh& mesh);
+};
+
+/// Cuts patches out of one coarse mesh: chosen triangles and the rings of triangles sharing a
+/// vertex with them. Reuses its scratch, so cutting every rank's patch costs O(patches), not
+/// O(ranks x mesh). Serial.
+class PatchCutter {
+public:
+  /// `mesh` and `topology` must outlive the cutter.
+  PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology);
+
+  /// `seeds` (triangle ids) and `rings` rings around them, as a patch numbered by increasing
+  /// triangle and vertex id. `ring_of`, when not null, gets each patch triangle's ring (0: a seed).
+  CoarsePatch cut(std::span<const std::int32_t> seeds, int rings,
+                  std::vector<std::int32_t>* ring_of = nullptr);
+
+private:
+  const TriangleMesh& mesh_;
+  const MeshTopology& topology_;
+  int cut_count_ = 0;
+  // The last cut that met each triangle and vertex, and local vertex numbers.
+  std::vector<int> triangle_stamp_;
+  std::vector<int> vertex_stamp_;
+  std::vector<std::int32_t> local_of_;
 };
 
 struct RefinedPatch {

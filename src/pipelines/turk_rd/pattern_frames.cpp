@@ -1,14 +1,9 @@
 #include "pipelines/turk_rd/pattern_frames.hpp"
 
-#include "core/error.hpp"
 #include "geom/bump_map.hpp"
-#include "geom/loop_subdivision.hpp"
-#include "geom/mesh_topology.hpp"
 #include "geom/point_halo.hpp"
 #include "io/parallel_surface_writer.hpp"
-#include "par/collective.hpp"
 #include "par/global_range.hpp"
-#include "par/morton_partition.hpp"
 
 #include <mpi.h>
 
@@ -26,80 +21,13 @@ std::unique_ptr<io::PvdSeries> open_series(const par::Comm& comm, const std::fil
 
 } // namespace
 
-/// This rank's share of the render mesh: the triangles it writes plus the ring of triangles
-/// around them (so normals at the piece's border see all their triangles), with local vertices.
-struct PatternFrames::RenderPiece {
-  geom::TriangleMesh mesh;           ///< written triangles first, then the surrounding ring
-  std::size_t written_triangles = 0; ///< how many of mesh.triangles are written
-  std::vector<std::int32_t> written_vertices;     ///< local vertices of the written triangles
-  std::vector<std::int64_t> written_connectivity; ///< 3 indices into written_vertices each
-};
-
 PatternFrames::PatternFrames(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
                              const geom::SurfaceCells& cells, const RenderSettings& render,
                              const std::filesystem::path& output_dir,
                              std::optional<double> restart_time)
     : comm_(comm), cells_(cells), render_(render), output_dir_(output_dir),
-      piece_(std::make_unique<RenderPiece>()) {
-  geom::TriangleMesh mesh = input_mesh;
-  if (render.subdivision_levels > 0)
-    par::run_collectively(comm, [&] {
-      try {
-        mesh = geom::loop_subdivide(input_mesh, render.subdivision_levels);
-      } catch (const Error& error) {
-        throw InputError(std::string("turk_rd.render.subdivision_levels: this mesh cannot be "
-                                     "Loop-subdivided (") +
-                         error.what() + "); use 0");
-      }
-    });
-  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    const geom::Vec3 c =
-        (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3;
-    centroids[t] = {c.x(), c.y(), c.z()};
-  }
-  const auto part = par::morton_partition(centroids, comm.size);
-  const geom::MeshTopology topology(mesh);
-  std::vector<std::int32_t> triangles;
-  std::vector<char> taken(mesh.triangles.size(), 0);
-  for (std::size_t t = 0; t < part.size(); ++t)
-    if (part[t] == comm.rank) {
-      triangles.push_back(std::int32_t(t));
-      taken[t] = 1;
-    }
-  piece_->written_triangles = triangles.size();
-  for (std::size_t k = 0; k < piece_->written_triangles; ++k)
-    for (const auto v : mesh.triangles[triangles[k]])
-      for (const auto t : topology.vertex_triangles().row(v))
-        if (!taken[t]) {
-          taken[t] = 1;
-          triangles.push_back(t);
-        }
-
-  std::vector<std::int32_t> local_of(mesh.positions.size(), -1);
-  for (std::size_t k = 0; k < triangles.size(); ++k) {
-    geom::Triangle local{};
-    for (int c = 0; c < 3; ++c) {
-      const auto v = mesh.triangles[triangles[k]][c];
-      if (local_of[v] < 0) {
-        local_of[v] = piece_->mesh.num_vertices();
-        piece_->mesh.positions.push_back(mesh.positions[v]);
-      }
-      local[c] = local_of[v];
-    }
-    piece_->mesh.triangles.push_back(local);
-  }
-  std::vector<std::int32_t> written_index(piece_->mesh.positions.size(), -1);
-  for (std::size_t k = 0; k < piece_->written_triangles; ++k)
-    for (const auto v : piece_->mesh.triangles[k]) {
-      if (written_index[v] < 0) {
-        written_index[v] = std::int32_t(piece_->written_vertices.size());
-        piece_->written_vertices.push_back(v);
-      }
-      piece_->written_connectivity.push_back(written_index[v]);
-    }
-
+      piece_(std::make_unique<RenderPiece>(
+          make_render_piece(comm, input_mesh, render.subdivision_levels))) {
   // Cells within the weighting radius of this piece, fetched from their owners every frame.
   const double radius = render.radius_spacings * cells.spacing();
   std::vector<geom::Vec3> owned_positions;

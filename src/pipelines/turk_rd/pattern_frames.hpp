@@ -14,6 +14,7 @@
 #include "par/comm.hpp"
 #include "par/ghosted_vector.hpp"
 #include "pipelines/turk_rd/pattern_sampler.hpp"
+#include "pipelines/turk_rd/render_piece.hpp"
 #include "pipelines/turk_rd/turk_rd_settings.hpp"
 
 #include <filesystem>
@@ -48,7 +49,6 @@ public:
   std::vector<std::filesystem::path> series() const;
 
 private:
-  struct RenderPiece;
   void write_surface(const std::string& name, double time, std::span<const double> pattern,
                      double lo, double hi);
   void write_cells(const std::string& name, double time, const FrameData& data);

@@ -1,0 +1,92 @@
+// turk_rd's render mesh is Loop-refined on each rank's share of the input only: over all ranks
+// every fine triangle of loop_subdivide(input) is written exactly once, with the same position
+// bits, and each piece's ring holds the triangles around its written ones, also bit for bit. At 1,
+// 2 and 3 ranks, on a noisy sphere, an open noisy square (boundary masks) and the raw bunny with
+// its holes.
+#include "geom/generators.hpp"
+#include "geom/loop_subdivision.hpp"
+#include "geom/mesh_reader.hpp"
+#include "geom/mesh_topology.hpp"
+#include "par/record_exchange.hpp"
+#include "pipelines/turk_rd/render_piece.hpp"
+#include "support/test_data.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+
+namespace texsim::pipelines::turk_rd {
+namespace {
+
+/// A triangle as its corners' coordinates, started at the smallest corner (orientation kept).
+using PlacedTriangle = std::array<double, 9>;
+
+PlacedTriangle placed(const geom::TriangleMesh& mesh, const geom::Triangle& triangle) {
+  std::array<std::array<double, 3>, 3> corners{};
+  for (int c = 0; c < 3; ++c)
+    for (int a = 0; a < 3; ++a)
+      corners[c][a] = mesh.positions[triangle[c]][a];
+  const int first = int(std::min_element(corners.begin(), corners.end()) - corners.begin());
+  PlacedTriangle out{};
+  for (int c = 0; c < 3; ++c)
+    for (int a = 0; a < 3; ++a)
+      out[3 * c + a] = corners[(first + c) % 3][a];
+  return out;
+}
+
+void check_pieces(const geom::TriangleMesh& input, int levels) {
+  const par::Comm comm = par::world();
+  const RenderPiece piece = make_render_piece(comm, input, levels);
+  std::vector<PlacedTriangle> mine;
+  for (std::size_t t = 0; t < piece.written_triangles; ++t)
+    mine.push_back(placed(piece.mesh, piece.mesh.triangles[t]));
+  ASSERT_EQ(piece.written_connectivity.size(), 3 * piece.written_triangles);
+  for (std::size_t k = 0; k < piece.written_connectivity.size(); ++k)
+    ASSERT_EQ(piece.written_vertices[std::size_t(piece.written_connectivity[k])],
+              piece.mesh.triangles[k / 3][k % 3]);
+  // The ring: every triangle of the fine mesh around a written vertex is in the piece.
+  const geom::TriangleMesh whole = geom::loop_subdivide(input, levels);
+  const geom::MeshTopology whole_topology(whole);
+  const geom::MeshTopology piece_topology(piece.mesh);
+  std::map<std::array<double, 3>, std::size_t> fan_of; // triangles around each fine vertex
+  for (std::int32_t v = 0; v < whole.num_vertices(); ++v)
+    fan_of[{whole.positions[v].x(), whole.positions[v].y(), whole.positions[v].z()}] =
+        whole_topology.vertex_triangles().row(v).size();
+  for (const std::int32_t v : piece.written_vertices) {
+    const auto& p = piece.mesh.positions[v];
+    ASSERT_EQ(piece_topology.vertex_triangles().row(v).size(), fan_of.at({p.x(), p.y(), p.z()}));
+  }
+  auto all = par::allgather_records(comm, mine);
+  std::vector<PlacedTriangle> expected;
+  for (const auto& triangle : whole.triangles)
+    expected.push_back(placed(whole, triangle));
+  std::sort(all.begin(), all.end());
+  std::sort(expected.begin(), expected.end());
+  // The ring's triangles too are the whole surface's, bit for bit (the normals at the border).
+  for (std::size_t t = piece.written_triangles; t < piece.mesh.triangles.size(); ++t)
+    ASSERT_TRUE(std::binary_search(expected.begin(), expected.end(),
+                                   placed(piece.mesh, piece.mesh.triangles[t])))
+        << "ring triangle " << t << " is not the subdivided surface's";
+  EXPECT_EQ(all, expected) << levels << " levels on " << comm.size << " ranks";
+}
+
+TEST(RenderPiece, RefinedSharesMakeTheWholeSubdividedSurface) {
+  const auto sphere = geom::noisy(geom::icosphere(2), 0.05, 4);
+  const auto square = geom::noisy(geom::plane(geom::Vec3(1, 1, 0), 6), 0.05, 9);
+  for (const int levels : {0, 1, 2}) {
+    check_pieces(sphere, levels);
+    check_pieces(square, levels);
+  }
+}
+
+TEST(RenderPieceOnRealData, TheRawBunnyRefinesPieceByPiece) {
+  const auto path = test::real_data("meshes/bunny00.off");
+  if (path.empty())
+    GTEST_SKIP() << test::missing_data_message("meshes/bunny00.off");
+  check_pieces(geom::read_mesh(path), 1);
+}
+
+} // namespace
+} // namespace texsim::pipelines::turk_rd
