@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/stage_timers.hpp"
+#include "geom/morton_order.hpp"
 #include "par/collective.hpp"
 #include "par/graph_partition.hpp"
 #include "par/morton_partition.hpp"
@@ -41,19 +42,11 @@ int coarse_halo_rings(int rounds) {
 class CoarsePartition {
 public:
   CoarsePartition(const TriangleMesh& coarse, PartitionMethod method, int ranks, int rings)
-      : mesh_(coarse), topology_(coarse), cutter_(coarse, topology_), rings_(rings) {
+      : topology_(coarse), cutter_(coarse, topology_), rings_(rings) {
     const std::int32_t triangles = coarse.num_triangles();
     std::vector<int> owner(std::size_t(triangles), 0);
-    if (ranks > 1 && method == PartitionMethod::kMorton) {
-      std::vector<std::array<double, 3>> centroids(static_cast<std::size_t>(triangles));
-      for (std::int32_t t = 0; t < triangles; ++t) {
-        const auto& tri = coarse.triangles[t];
-        const Vec3 c =
-            (coarse.positions[tri[0]] + coarse.positions[tri[1]] + coarse.positions[tri[2]]) / 3.0;
-        centroids[t] = {c.x(), c.y(), c.z()};
-      }
-      owner = par::morton_partition(centroids, ranks);
-    }
+    if (ranks > 1 && method == PartitionMethod::kMorton)
+      owner = morton_triangle_parts(coarse, ranks);
     if (ranks > 1 && method == PartitionMethod::kScotch) {
       // The dual graph: triangles joined across their edges.
       std::vector<std::int64_t> offsets{0};
@@ -73,7 +66,7 @@ public:
       by_rank_[owner_[t]].push_back(t);
   }
 
-  std::int64_t triangle_count() const { return std::int64_t(mesh_.triangles.size()); }
+  std::int64_t triangle_count() const { return topology_.num_triangles(); }
 
   /// Rank r's triangles and `rings` rings of triangles sharing a vertex with them.
   CoarsePart part(int r) {
@@ -85,7 +78,6 @@ public:
   }
 
 private:
-  const TriangleMesh& mesh_;
   MeshTopology topology_;
   PatchCutter cutter_;
   int rings_;

@@ -45,4 +45,14 @@ DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Bo
   return sorted;
 }
 
+std::vector<int> morton_triangle_parts(const TriangleMesh& mesh, int parts) {
+  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+    centroids[t] = {c.x(), c.y(), c.z()};
+  }
+  return par::morton_partition(centroids, parts);
+}
+
 } // namespace texsim::geom

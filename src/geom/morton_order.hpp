@@ -4,7 +4,10 @@
 /// other points a rank holds.
 #include "geom/point_halo.hpp"
 #include "geom/surface_point.hpp"
+#include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
+
+#include <vector>
 
 namespace texsim::geom {
 
@@ -13,5 +16,9 @@ namespace texsim::geom {
 /// Ids must be unique over the ranks. Collective.
 DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Box3& box,
                                                  DistributedSurfacePoints points);
+
+/// The part in [0, parts) of each triangle: even runs along a Morton curve of the triangles'
+/// centroids (par::morton_partition). The same on every rank that holds the mesh. Serial.
+std::vector<int> morton_triangle_parts(const TriangleMesh& mesh, int parts);
 
 } // namespace texsim::geom

@@ -66,22 +66,23 @@ struct Level {
 /// Loop's new position of an old vertex: the boundary mask (6 v + b1 + b2) / 8 on a boundary, the
 /// interior mask (1 - c) v + c / k sum of the k neighbours otherwise, c = 5/8 - (3 + 2 cos(2 pi /
 /// k))^2 / 64. A vertex with other than two boundary neighbours (only at a patch's border, the
-/// input being edge-manifold) keeps its position.
+/// input being edge-manifold) keeps its position. `neighbours` is scratch, reused across vertices.
 Vec3 loop_even(const Level& level, const MeshTopology& topology, std::int32_t v,
-               const std::vector<std::vector<std::int32_t>>& boundary_neighbours) {
+               const std::vector<std::vector<std::int32_t>>& boundary_neighbours,
+               std::vector<std::int32_t>& neighbours) {
   const auto& p = level.mesh.positions;
   const auto by_id = [&](std::int32_t a, std::int32_t b) { return level.id[a] < level.id[b]; };
   if (!boundary_neighbours[v].empty()) {
     if (boundary_neighbours[v].size() != 2)
       return p[v];
-    auto ends = boundary_neighbours[v];
-    std::sort(ends.begin(), ends.end(), by_id);
-    return (6.0 * p[v] + p[ends[0]] + p[ends[1]]) / 8.0;
+    const auto [first, second] =
+        std::minmax(boundary_neighbours[v][0], boundary_neighbours[v][1], by_id);
+    return (6.0 * p[v] + p[first] + p[second]) / 8.0;
   }
   const auto row = topology.vertex_neighbors().row(v);
   if (row.empty())
     return p[v];
-  std::vector<std::int32_t> neighbours(row.begin(), row.end());
+  neighbours.assign(row.begin(), row.end());
   std::sort(neighbours.begin(), neighbours.end(), by_id);
   Vec3 sum = Vec3::Zero();
   for (const std::int32_t w : neighbours)
@@ -137,9 +138,10 @@ Level refine_once(const Level& level, const RefinementStep& step, const Hierarch
     boundary_neighbours[a].push_back(b);
     boundary_neighbours[b].push_back(a);
   }
+  std::vector<std::int32_t> neighbours;
   for (std::int32_t v = 0; v < vertices; ++v)
     fine.mesh.positions[v] = step.rule == RefinementStep::Rule::kLoop
-                                 ? loop_even(level, topology, v, boundary_neighbours)
+                                 ? loop_even(level, topology, v, boundary_neighbours, neighbours)
                                  : level.mesh.positions[v];
   for (std::int32_t e = 0; e < edges; ++e)
     fine.mesh.positions[vertices + e] = odd_position(level, topology, e, step);

@@ -4,7 +4,6 @@
 #include "geom/mesh_measures.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
-#include "par/morton_partition.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -84,13 +83,7 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Triang
 }
 
 void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {
-  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3;
-    centroids[t] = {c.x(), c.y(), c.z()};
-  }
-  const auto part = par::morton_partition(centroids, comm.size);
+  const auto part = morton_triangle_parts(mesh, comm.size);
   for (std::size_t t = 0; t < part.size(); ++t)
     if (part[t] == comm.rank)
       triangles_.push_back(std::int32_t(t));

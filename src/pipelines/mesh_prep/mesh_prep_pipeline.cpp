@@ -3,13 +3,13 @@
 #include "core/log.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/morton_order.hpp"
 #include "geom/p1_matrices.hpp"
 #include "geom/submesh.hpp"
 #include "geom/triangle_quality.hpp"
 #include "io/parallel_surface_writer.hpp"
 #include "io/pvd_series.hpp"
 #include "par/collective.hpp"
-#include "par/morton_partition.hpp"
 
 #include <mpi.h>
 
@@ -48,14 +48,7 @@ void record_measures(const geom::TriangleMesh& mesh, RunContext& ctx) {
 
 /// Each rank writes the triangles of its part with per-vertex normals and areas.
 std::filesystem::path write_partitioned(const geom::TriangleMesh& mesh, RunContext& ctx) {
-  std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    const geom::Vec3 c =
-        (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
-    centroids[t] = {c.x(), c.y(), c.z()};
-  }
-  const auto part = par::morton_partition(centroids, ctx.comm.size);
+  const auto part = geom::morton_triangle_parts(mesh, ctx.comm.size);
   const auto piece = geom::extract_part(mesh, part, ctx.comm.rank);
 
   const auto normals = geom::vertex_normals(mesh);

@@ -2,9 +2,9 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/morton_order.hpp"
 #include "geom/patch_refinement.hpp"
 #include "par/collective.hpp"
-#include "par/morton_partition.hpp"
 
 #include <array>
 #include <string>
@@ -20,15 +20,7 @@ RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& i
   // its border, where Loop's masks already give the whole surface's positions: the normals at the
   // piece's border see all their triangles, exactly (render_piece_test checks the bits).
   const geom::MeshTopology input_topology(input_mesh);
-  std::vector<std::array<double, 3>> centroids(input_mesh.triangles.size());
-  for (std::size_t t = 0; t < input_mesh.triangles.size(); ++t) {
-    const auto& tri = input_mesh.triangles[t];
-    const geom::Vec3 c = (input_mesh.positions[tri[0]] + input_mesh.positions[tri[1]] +
-                          input_mesh.positions[tri[2]]) /
-                         3;
-    centroids[t] = {c.x(), c.y(), c.z()};
-  }
-  const auto part = par::morton_partition(centroids, comm.size);
+  const auto part = geom::morton_triangle_parts(input_mesh, comm.size);
   std::vector<std::int32_t> share;
   for (std::size_t t = 0; t < part.size(); ++t)
     if (part[t] == comm.rank)
