@@ -14,8 +14,13 @@ namespace texsim::pipelines::solid_synthesis {
 namespace {
 
 /// A value that names voxel (i, j, k) of a level of size n uniquely.
-Coord label(int i, int j, int k, int n) {
+Position label(int i, int j, int k, int n) {
   return {i, j, k + 1000 * n};
+}
+
+/// c voxels in fixed point.
+Position fixed(const Coord& c) {
+  return Position::at_voxel(c);
 }
 
 TEST(LevelLayout, SlabsTileEachLevelEvenlyOverAsManyRanksAsItHasPairsOfPlanes) {
@@ -103,14 +108,14 @@ TEST(CorrectionStencil, IsometricStencilIsEquationFour) {
     for (int d = 0; d < kDiagonalCount; ++d) {
       const Coord delta{d & 1 ? 1 : -1, d & 2 ? 1 : -1, d & 4 ? 1 : -1};
       EXPECT_EQ(stencil.source[d], delta);
-      EXPECT_EQ(stencil.source_shift[d], (Coord{h * delta.x, h * delta.y, h * delta.z}));
+      EXPECT_EQ(stencil.source_shift[d], fixed(Coord{h * delta.x, h * delta.y, h * delta.z}));
       EXPECT_EQ(stencil.exemplar_offset[d], (Coord{h * delta.x, h * delta.y, h * delta.z}));
       // N(p; Delta) = 1/4 sum_M V[S[p + Delta + M Delta] - h M Delta].
       const Coord m_delta[4] = {{0, 0, 0}, {delta.x, 0, 0}, {0, delta.y, 0}, {0, 0, delta.z}};
       for (int m = 0; m < kSubNeighbourCount; ++m) {
         EXPECT_EQ(stencil.sample[d][m], delta + m_delta[m]);
         EXPECT_EQ(stencil.sample_shift[d][m],
-                  (Coord{-h * m_delta[m].x, -h * m_delta[m].y, -h * m_delta[m].z}));
+                  fixed(Coord{-h * m_delta[m].x, -h * m_delta[m].y, -h * m_delta[m].z}));
       }
     }
   }
@@ -128,7 +133,8 @@ TEST(CorrectionStencil, RotationTurnsTheNeighbourDirections) {
     EXPECT_EQ(stencil.source[d], (Coord{int(std::lround(turned.x())), int(std::lround(turned.y())),
                                         int(std::lround(turned.z()))}));
     // Reading through the rotated neighbour predicts p's coordinate as S[q] - Delta.
-    EXPECT_EQ(stencil.source_shift[d], (Coord{int(delta.x()), int(delta.y()), int(delta.z())}));
+    EXPECT_EQ(stencil.source_shift[d],
+              fixed(Coord{int(delta.x()), int(delta.y()), int(delta.z())}));
   }
 }
 
@@ -146,9 +152,11 @@ CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a,
     const float length = phi.norm();
     return length > 0.0f ? rounded(phi / length) : rounded(d.normalized());
   };
+  // h A o in fixed point.
   const auto shift = [&](const Coord& o) {
-    return rounded(static_cast<float>(h) *
-                   (a * Eigen::Vector3f(float(o.x), float(o.y), float(o.z))));
+    const Coord c = rounded(static_cast<float>(h << kSubvoxelBits) *
+                            (a * Eigen::Vector3f(float(o.x), float(o.y), float(o.z))));
+    return Position{c.x, c.y, c.z};
   };
   CorrectionStencil stencil;
   for (int d = 0; d < kDiagonalCount; ++d) {
@@ -163,7 +171,7 @@ CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a,
         m_delta[m - 1] = delta[m - 1];
       const Coord offset = stencil.source[d] + (m > 0 ? warped(m_delta) : Coord{});
       stencil.sample[d][m] = offset;
-      stencil.sample_shift[d][m] = h_delta - shift(offset);
+      stencil.sample_shift[d][m] = fixed(h_delta) - shift(offset);
     }
   }
   return stencil;
@@ -226,7 +234,8 @@ TEST(ChildOffsets, IsometricChildrenAreSpacedByH) {
   for (int h : {1, 2, 4}) {
     const auto offsets = child_offsets(h, Eigen::Matrix3f::Identity());
     for (int c = 0; c < 8; ++c) {
-      const Coord expected = offsets[0] + Coord{h * (c & 1), h * ((c >> 1) & 1), h * (c >> 2)};
+      const Position expected =
+          offsets[0] + fixed(Coord{h * (c & 1), h * ((c >> 1) & 1), h * (c >> 2)});
       EXPECT_EQ(offsets[c], expected) << "h " << h << " child " << c;
     }
   }

@@ -2,7 +2,8 @@
 // to 32^3, a checkpoint after every pyramid level) gives the same voxels in its .vdb and in
 // its parallel .pvti volumes at -n 1, 2 and 3; a copy of the -n 2 run that lost the checkpoints
 // after level 3 (a job killed mid-pyramid) and is continued with --restart, at -n 2 (then with the
-// same bytes in every piece) and at -n 3, ends with the same volumes too; and the second run
+// same bytes in every piece) and at -n 3, ends with the same volumes too (also under a slant
+// field, whose checkpoints hold sub-voxel positions); and the second run
 // reads its appearance space and similarity sets from the cache the first one wrote. The texsim
 // runs are child jobs (support/run_command.hpp); this program itself runs on one rank.
 #include "support/output_files.hpp"
@@ -111,6 +112,26 @@ TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
     EXPECT_EQ(test::read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
     expect_same_volumes(dir_ / "n2", copy, ranks == 2);
   }
+}
+
+TEST_F(SolidSynthesisRuns, AnisometricRestartKeepsTheSubvoxelPositions) {
+  // Under a slant field the checkpointed positions have fractions: a restart at another rank
+  // count from mid-pyramid must read them back whole to end with the same volumes.
+  const std::string slant = "--set solid_synthesis.field.type=slant";
+  const fs::path full = dir_ / "slant_n2";
+  const auto first = run_smoke(2, full, dir_ / "cache", slant);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const fs::path copy = dir_ / "slant_killed_n3";
+  fs::copy(full, copy, fs::copy_options::recursive);
+  for (int level = kLastKeptLevel + 1; level <= kFinestLevel; ++level)
+    ASSERT_TRUE(fs::remove(test::checkpoint_file(copy, level)));
+  for (const char* file : {"summary.json", "solid_synthesis.vdb", "solid_synthesis.pvti",
+                           "exemplar_coordinates.pvti", "solid_synthesis", "exemplar_coordinates"})
+    ASSERT_GT(fs::remove_all(copy / file), 0u) << file;
+  const auto restarted = run_smoke(3, copy, dir_ / "cache", slant + " --restart");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  EXPECT_EQ(test::read_summary(copy)["metrics"]["levels"].size(), kFinestLevel - kLastKeptLevel);
+  expect_same_volumes(full, copy, false);
 }
 
 TEST_F(SolidSynthesisRuns, SecondRunReadsFeaturesAndSimilaritySetsFromTheCache) {

@@ -1,6 +1,6 @@
-// The incoherent-voxel fraction: 0 for a shifted copy of the exemplar (and for a copy stretched by
-// the field's Jacobian), exactly one voxel for a single speck, nearly all for random coordinates,
-// the same at any rank count.
+// The incoherent-voxel fraction: 0 for a shifted copy of the exemplar (and for a copy stretched or
+// turned by the field's Jacobian, whole-voxel or sub-voxel), exactly one voxel for a single speck,
+// nearly all for random coordinates, the same at any rank count.
 #include "pipelines/solid_synthesis/synthesis_coherence.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <type_traits>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -24,7 +25,10 @@ double fraction_of(const Value& value, const LevelJacobians* jacobians = nullptr
   for (int k = layout.z_begin; k < layout.z_end; ++k)
     for (int j = 0; j < kSize; ++j)
       for (int i = 0; i < kSize; ++i)
-        slab.at(i, j, k) = value(i, j, k);
+        if constexpr (std::is_same_v<decltype(value(i, j, k)), Coord>)
+          slab.at(i, j, k) = Position::at_voxel(value(i, j, k));
+        else
+          slab.at(i, j, k) = value(i, j, k);
   slab.exchange_halo(comm);
   return incoherent_fraction(comm, slab, jacobians, kExemplar, {kSize, kSize, kSize});
 }
@@ -56,23 +60,28 @@ TEST(IncoherentFraction, TheJacobianSaysWhatContinuesAVoxel) {
   EXPECT_EQ(fraction_of(stretched), 1.0); // read isometrically, no neighbour continues
 }
 
-TEST(IncoherentFraction, ARoundedRotatedCopyIsCoherent) {
+TEST(IncoherentFraction, RotatedCopiesAreCoherentRoundedOrNot) {
   // S(p) = round(A p + c) with A a 30 degree rotation: the rounding makes S(p + e) - S(p) either
-  // rounding of A e, and every voxel is still part of one coherent copy.
+  // rounding of A e, and every voxel is still part of one coherent copy. The same copy kept to
+  // 1/256 voxel, as the synthesis keeps positions, is coherent too.
   const par::Comm comm = par::world();
   const LevelLayout layout = level_layout(kLevel, comm.rank, comm.size);
   const LevelJacobians turned = sample_level(*rotation_field(Eigen::Vector3d::UnitZ(), 30.0), kSize,
                                              layout.z_begin, layout.z_end, kSize);
   const Eigen::Matrix3f a = turned.a(0, 0, layout.z_begin);
-  const auto copy = [&](int i, int j, int k) {
-    const Eigen::Vector3f s =
-        a * Eigen::Vector3f(float(i), float(j), float(k)) + Eigen::Vector3f(3.3f, 7.6f, 1.2f);
-    return Coord{int(std::floor(s.x() + 0.5f)), int(std::floor(s.y() + 0.5f)),
-                 int(std::floor(s.z() + 0.5f))};
-  };
-  const double fraction = fraction_of(copy, &turned);
-  std::printf("rounded rotated copy: %.4f incoherent\n", fraction);
-  EXPECT_EQ(fraction, 0.0);
+  for (const int bits : {0, kSubvoxelBits}) {
+    const float scale = float(1 << bits);
+    const auto copy = [&](int i, int j, int k) {
+      const Eigen::Vector3f s = scale * (a * Eigen::Vector3f(float(i), float(j), float(k)) +
+                                         Eigen::Vector3f(3.3f, 7.6f, 1.2f));
+      const Position rounded{int(std::floor(s.x() + 0.5f)), int(std::floor(s.y() + 0.5f)),
+                             int(std::floor(s.z() + 0.5f))};
+      return bits == 0 ? Position::at_voxel({rounded.x, rounded.y, rounded.z}) : rounded;
+    };
+    const double fraction = fraction_of(copy, &turned);
+    std::printf("rotated copy kept to 2^-%d voxel: %.4f incoherent\n", bits, fraction);
+    EXPECT_EQ(fraction, 0.0);
+  }
 }
 
 } // namespace

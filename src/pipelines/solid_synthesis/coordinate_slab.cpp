@@ -34,12 +34,12 @@ CoordinateSlab::CoordinateSlab(const LevelLayout& layout)
                 "level size must be a power of two, got " << layout.size);
 }
 
-std::span<Coord> CoordinateSlab::owned() {
+std::span<Position> CoordinateSlab::owned() {
   return {values_.data() + kSlabHalo * plane_size(),
           static_cast<std::size_t>(layout_.z_end - layout_.z_begin) * plane_size()};
 }
 
-std::span<const Coord> CoordinateSlab::owned() const {
+std::span<const Position> CoordinateSlab::owned() const {
   return {values_.data() + kSlabHalo * plane_size(),
           static_cast<std::size_t>(layout_.z_end - layout_.z_begin) * plane_size()};
 }
@@ -47,7 +47,7 @@ std::span<const Coord> CoordinateSlab::owned() const {
 void CoordinateSlab::exchange_halo(const par::Comm& comm) {
   const std::size_t plane = plane_size();
   const int owned_planes = layout_.z_end - layout_.z_begin;
-  Coord* data = values_.data();
+  Position* data = values_.data();
   // Local plane index of global plane z (halo planes included).
   const auto local = [&](int z) {
     return static_cast<std::size_t>(z - layout_.z_begin + kSlabHalo);
@@ -70,7 +70,7 @@ void CoordinateSlab::exchange_halo(const par::Comm& comm) {
   const int previous = (comm.rank + layout_.ranks - 1) % layout_.ranks;
   const int next = (comm.rank + 1) % layout_.ranks;
   const int count = static_cast<int>(kSlabHalo * plane * 3);
-  static_assert(sizeof(Coord) == 3 * sizeof(std::int32_t));
+  static_assert(sizeof(Position) == 3 * sizeof(std::int32_t));
   // Lowest owned planes go to the previous rank's upper halo; highest to the next rank's lower.
   MPI_Sendrecv(data + local(layout_.z_begin) * plane, count, MPI_INT32_T, previous, 31,
                data + local(layout_.z_end) * plane, count, MPI_INT32_T, next, 31, comm.raw,
@@ -105,7 +105,7 @@ CoordinateSlab parent_planes(const par::Comm& comm, const CoordinateSlab& parent
     return planes;
   }
   const int child_level = std::countr_zero(static_cast<unsigned>(child.size));
-  std::vector<std::vector<Coord>> outgoing(static_cast<std::size_t>(comm.size));
+  std::vector<std::vector<Position>> outgoing(static_cast<std::size_t>(comm.size));
   for (int r = 0; r < comm.size; ++r) {
     const auto [from, to] = needed(level_layout(child_level, r, comm.size));
     for (int z = std::max(from, own.z_begin); z < std::min(to, own.z_end); ++z)

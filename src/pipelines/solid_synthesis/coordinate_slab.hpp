@@ -1,5 +1,5 @@
 #pragma once
-/// The synthesized volume S of one pyramid level: an exemplar coordinate per voxel, split into
+/// The synthesized volume S of one pyramid level: an exemplar position per voxel, split into
 /// z-slabs across ranks with a halo of planes copied from the neighbouring slabs.
 ///
 /// Levels are n^3 with n a power of two and the volume is a 3-torus (the result tiles), so x and
@@ -24,6 +24,35 @@ struct Coord {
   friend Coord operator+(Coord a, Coord b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
   friend Coord operator-(Coord a, Coord b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
   friend bool operator==(const Coord&, const Coord&) = default;
+};
+
+/// Fractional bits of an exemplar position: positions are kept to 1/256 of a voxel.
+inline constexpr int kSubvoxelBits = 8;
+
+/// An exemplar position in fixed point, 2^-kSubvoxelBits voxel units: S[p]. Anisometric synthesis
+/// predicts p's position from a neighbour q as S[q] - h A (q - p), rarely a whole voxel; rounding
+/// it at every prediction lets half a voxel of error compound over passes and levels until no
+/// two neighbours continue one patch (Lefebvre and Hoppe's GPU synthesis keeps the fraction for
+/// the same reason). Features and colours are read at the nearest voxel.
+struct Position {
+  std::int32_t x = 0;
+  std::int32_t y = 0;
+  std::int32_t z = 0;
+
+  static Position at_voxel(const Coord& c) {
+    return {c.x * (1 << kSubvoxelBits), c.y * (1 << kSubvoxelBits), c.z * (1 << kSubvoxelBits)};
+  }
+  /// The nearest voxel, halves rounded up: floor(x + 1/2).
+  Coord voxel() const {
+    constexpr std::int32_t half = 1 << (kSubvoxelBits - 1);
+    return {(x + half) >> kSubvoxelBits, (y + half) >> kSubvoxelBits, (z + half) >> kSubvoxelBits};
+  }
+  /// What is left after the nearest voxel: in [-1/2, 1/2) voxel.
+  Position fraction() const { return *this - at_voxel(voxel()); }
+
+  friend Position operator+(Position a, Position b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+  friend Position operator-(Position a, Position b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+  friend bool operator==(const Position&, const Position&) = default;
 };
 
 /// Which z-planes of a level this rank computes.
@@ -53,8 +82,10 @@ public:
   int size() const { return layout_.size; }
 
   /// Voxel (i, j, k): i and j any integers (periodic), k within the owned planes +- kSlabHalo.
-  Coord& at(int i, int j, int k) { return values_[index(i, j, k)]; }
-  const Coord& at(int i, int j, int k) const { return values_[index(i, j, k)]; }
+  Position& at(int i, int j, int k) { return values_[index(i, j, k)]; }
+  const Position& at(int i, int j, int k) const { return values_[index(i, j, k)]; }
+  /// The exemplar voxel whose colour voxel (i, j, k) shows.
+  Coord voxel(int i, int j, int k) const { return at(i, j, k).voxel(); }
 
   /// Voxels in one plane: n^2.
   std::size_t plane_size() const {
@@ -62,8 +93,8 @@ public:
   }
 
   /// The owned planes, x fastest (what a checkpoint or the output stores).
-  std::span<Coord> owned();
-  std::span<const Coord> owned() const;
+  std::span<Position> owned();
+  std::span<const Position> owned() const;
 
   /// Fills the halo planes from the neighbouring slabs (ring over the ranks holding planes), or
   /// from this slab's own planes when the level is replicated. Collective when the level is split
@@ -81,7 +112,7 @@ private:
   }
 
   LevelLayout layout_;
-  std::vector<Coord> values_;
+  std::vector<Position> values_;
 };
 
 /// Planes [begin, end) of a level's z-crop [0, crop_nz) that this rank reports (outputs, sums

@@ -17,8 +17,10 @@ std::int32_t rounded(float x) {
   return truncated - (t < static_cast<float>(truncated) ? 1 : 0);
 }
 
-Coord rounded(const Eigen::Vector3f& v) {
-  return {rounded(v.x()), rounded(v.y()), rounded(v.z())};
+/// v in fixed point: round(2^kSubvoxelBits v).
+Position fixed_point(const Eigen::Vector3f& v) {
+  constexpr float scale = 1 << kSubvoxelBits;
+  return {rounded(scale * v.x()), rounded(scale * v.y()), rounded(scale * v.z())};
 }
 
 Eigen::Vector3f diagonal(int index) {
@@ -123,30 +125,32 @@ CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
       offsets.set(d * kSubNeighbourCount + 1 + axis,
                   warped[d] + warped[axis_direction(axis, (d >> axis) & 1)]);
   }
+  // h A (q - p) in fixed point: the scale 2^kSubvoxelBits h is exact in float.
   const std::array<Coord, kOffsets> shifts =
-      rounded(product(static_cast<float>(h), jacobian, offsets));
+      rounded(product(static_cast<float>(h << kSubvoxelBits), jacobian, offsets));
+  const auto position = [](const Coord& c) { return Position{c.x, c.y, c.z}; };
 
   CorrectionStencil stencil;
   for (int d = 0; d < kDiagonalCount; ++d) {
     const Coord h_delta{d & 1 ? h : -h, d & 2 ? h : -h, d & 4 ? h : -h};
     stencil.exemplar_offset[d] = h_delta;
     stencil.source[d] = warped[d];
-    stencil.source_shift[d] = shifts[d * kSubNeighbourCount];
+    stencil.source_shift[d] = position(shifts[d * kSubNeighbourCount]);
     for (int m = 0; m < kSubNeighbourCount; ++m) {
       const int at = d * kSubNeighbourCount + m;
       stencil.sample[d][m] = {static_cast<std::int32_t>(offsets.x[at]),
                               static_cast<std::int32_t>(offsets.y[at]),
                               static_cast<std::int32_t>(offsets.z[at])};
-      stencil.sample_shift[d][m] = h_delta - shifts[at];
+      stencil.sample_shift[d][m] = Position::at_voxel(h_delta) - position(shifts[at]);
     }
   }
   return stencil;
 }
 
-std::array<Coord, 8> child_offsets(int h, const Eigen::Matrix3f& jacobian) {
-  std::array<Coord, 8> offsets;
+std::array<Position, 8> child_offsets(int h, const Eigen::Matrix3f& jacobian) {
+  std::array<Position, 8> offsets;
   for (int c = 0; c < 8; ++c)
-    offsets[c] = rounded(static_cast<float>(h) * (jacobian * (0.5f * diagonal(c))));
+    offsets[c] = fixed_point(static_cast<float>(h) * (jacobian * (0.5f * diagonal(c))));
   return offsets;
 }
 

@@ -26,13 +26,14 @@ inline constexpr int kSubNeighbourCount = 4;
 struct CorrectionStencil {
   /// q - p for the neighbour that proposes candidates in direction Delta (phi~(Delta)).
   std::array<Coord, kDiagonalCount> source;
-  /// round(h A (q - p)): a candidate for p is C_i(S[q]) - source_shift.
-  std::array<Coord, kDiagonalCount> source_shift;
+  /// h A (q - p) in fixed point: a candidate for p is C_i(S[q]) + (S[q]'s fraction) -
+  /// source_shift.
+  std::array<Position, kDiagonalCount> source_shift;
   /// q_M - p for the 4 sub-neighbours of direction Delta.
   std::array<std::array<Coord, kSubNeighbourCount>, kDiagonalCount> sample;
-  /// -round(h A (q_M - p)) + h Delta: added to S[q_M] gives the exemplar voxel whose feature
-  /// enters the average of eq. (4)/(7).
-  std::array<std::array<Coord, kSubNeighbourCount>, kDiagonalCount> sample_shift;
+  /// -h A (q_M - p) + h Delta in fixed point: added to S[q_M] gives the exemplar position whose
+  /// nearest voxel's feature enters the average of eq. (4)/(7).
+  std::array<std::array<Position, kSubNeighbourCount>, kDiagonalCount> sample_shift;
   /// h Delta: the exemplar neighbourhood N_E(u) reads u + h Delta.
   std::array<Coord, kDiagonalCount> exemplar_offset;
 };
@@ -43,8 +44,8 @@ struct CorrectionStencil {
 CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
                                const Eigen::Matrix3f& inverse_jacobian);
 
-/// round(h A (c - 1/2)) for child c in {0,1}^3 (x fastest): eq. (5)'s child offset. With A = I
-/// children are h apart, as in eq. (1) up to a constant shift.
-std::array<Coord, 8> child_offsets(int h, const Eigen::Matrix3f& jacobian);
+/// h A (c - 1/2) in fixed point for child c in {0,1}^3 (x fastest): eq. (5)'s child offset. With
+/// A = I children are h apart, as in eq. (1) up to a constant shift.
+std::array<Position, 8> child_offsets(int h, const Eigen::Matrix3f& jacobian);
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -138,7 +138,7 @@ struct MatchScratch {
         reads(kDiagonalCount * std::max(kSubNeighbourCount, kDiagonalCount * exemplar.k())) {}
 
   std::vector<float> neighbourhood; ///< N_S(p): 8 averages of `channels` floats
-  std::vector<Coord> candidates;    ///< the 8k candidates, direction-major
+  std::vector<Position> candidates; ///< the 8k candidates, direction-major
   std::vector<const float*> reads;  ///< feature pointers of one phase
 };
 
@@ -149,34 +149,41 @@ struct MatchScratch {
 /// fewer of them). Each phase therefore first computes its addresses and prefetches them all, so
 /// the misses overlap instead of stalling one candidate at a time; the arithmetic and its order
 /// are those of the plain loops.
-std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, int k,
-                                    const CorrectionStencil& stencil,
-                                    const ExemplarLevelView& exemplar, float incoherent_scale,
-                                    MatchScratch& scratch) {
+std::pair<Position, double> best_match(const CoordinateSlab& slab, int i, int j, int k,
+                                       const CorrectionStencil& stencil,
+                                       const ExemplarLevelView& exemplar, float incoherent_scale,
+                                       MatchScratch& scratch) {
   const int d = exemplar.channels();
   const int n_candidates = kDiagonalCount * exemplar.k();
   const float** reads = scratch.reads.data();
 
   const Coord* similarity_sets[kDiagonalCount];
+  // A candidate keeps the fraction of the position it was proposed from: C_1 then continues the
+  // neighbour's patch exactly.
+  Position fractions[kDiagonalCount];
   for (int dir = 0; dir < kDiagonalCount; ++dir) {
     const Coord& source = stencil.source[dir];
-    similarity_sets[dir] = exemplar.candidates(slab.at(i + source.x, j + source.y, k + source.z));
+    const Position& proposer = slab.at(i + source.x, j + source.y, k + source.z);
+    similarity_sets[dir] = exemplar.candidates(proposer.voxel());
+    fractions[dir] = proposer.fraction();
     __builtin_prefetch(similarity_sets[dir]);
     __builtin_prefetch(similarity_sets[dir] + exemplar.k() - 1);
   }
   for (int dir = 0; dir < kDiagonalCount; ++dir)
     for (int m = 0; m < kSubNeighbourCount; ++m) {
       const Coord& offset = stencil.sample[dir][m];
-      const Coord at =
+      const Position at =
           slab.at(i + offset.x, j + offset.y, k + offset.z) + stencil.sample_shift[dir][m];
-      const float* f = exemplar.feature(at);
+      const float* f = exemplar.feature(at.voxel());
       __builtin_prefetch(f);
       reads[dir * kSubNeighbourCount + m] = f;
     }
-  Coord* candidates = scratch.candidates.data();
-  for (int dir = 0; dir < kDiagonalCount; ++dir)
+  Position* candidates = scratch.candidates.data();
+  for (int dir = 0; dir < kDiagonalCount; ++dir) {
+    const Position shift = fractions[dir] - stencil.source_shift[dir];
     for (int n = 0; n < exemplar.k(); ++n)
-      candidates[dir * exemplar.k() + n] = similarity_sets[dir][n] - stencil.source_shift[dir];
+      candidates[dir * exemplar.k() + n] = Position::at_voxel(similarity_sets[dir][n]) + shift;
+  }
 
   float* neighbourhood = scratch.neighbourhood.data();
   for (int dir = 0; dir < kDiagonalCount; ++dir) {
@@ -192,13 +199,15 @@ std::pair<Coord, double> best_match(const CoordinateSlab& slab, int i, int j, in
       average[c] *= 1.0f / kSubNeighbourCount;
   }
 
-  for (int n = 0; n < n_candidates; ++n)
+  for (int n = 0; n < n_candidates; ++n) {
+    const Coord voxel = candidates[n].voxel();
     for (int e = 0; e < kDiagonalCount; ++e) {
-      const float* f = exemplar.feature(candidates[n] + stencil.exemplar_offset[e]);
+      const float* f = exemplar.feature(voxel + stencil.exemplar_offset[e]);
       __builtin_prefetch(f);
       reads[n * kDiagonalCount + e] = f;
     }
-  Coord best = slab.at(i, j, k);
+  }
+  Position best = slab.at(i, j, k);
   float best_distance = std::numeric_limits<float>::infinity();
   for (int n = 0; n < n_candidates; ++n) {
     // The first entry of a similarity set continues that neighbour's patch.
@@ -244,13 +253,16 @@ int PyramidSynthesizer::stack_level(int level) const {
   return std::min(s, static_cast<int>(exemplar_.features.size()) - 1);
 }
 
-Coord PyramidSynthesizer::wrapped(const Coord& c) const {
-  return {wrap(c.x, exemplar_.dims.nx), wrap(c.y, exemplar_.dims.ny), wrap(c.z, exemplar_.dims.nz)};
+Position PyramidSynthesizer::wrapped(const Position& c) const {
+  // Into [-1/2, n - 1/2) voxels, so that the nearest voxel lies inside the exemplar.
+  constexpr int half = 1 << (kSubvoxelBits - 1);
+  const auto axis = [](int v, int n) { return wrap(v + half, n << kSubvoxelBits) - half; };
+  return {axis(c.x, exemplar_.dims.nx), axis(c.y, exemplar_.dims.ny), axis(c.z, exemplar_.dims.nz)};
 }
 
 CoordinateSlab PyramidSynthesizer::first_level(LevelStats& stats) const {
   CoordinateSlab slab(level_layout(0, comm_.rank, comm_.size));
-  slab.at(0, 0, 0) = Coord{};
+  slab.at(0, 0, 0) = Position{};
   jitter(slab, 0);
   correct(slab, 0, level_jacobians(slab.layout()), stats);
   return slab;
@@ -274,7 +286,7 @@ std::optional<CoordinateSlab> PyramidSynthesizer::next_level(const CoordinateSla
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const int child = (i & 1) + 2 * (j & 1) + 4 * (k & 1);
-        const Coord offset =
+        const Position offset =
             jacobians ? child_offsets(h, jacobians->a(i, j, k))[child] : isometric_children[child];
         slab.at(i, j, k) = wrapped(parents.at(i >> 1, j >> 1, k >> 1) + offset);
       }
@@ -306,7 +318,8 @@ void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
           return static_cast<std::int32_t>(
               std::floor(amplitude * hash.uniform(-1.0, 1.0, id, level, axis) + 0.5));
         };
-        slab.at(i, j, k) = wrapped(slab.at(i, j, k) + Coord{offset(0), offset(1), offset(2)});
+        slab.at(i, j, k) =
+            wrapped(slab.at(i, j, k) + Position::at_voxel(Coord{offset(0), offset(1), offset(2)}));
       }
 }
 
@@ -336,7 +349,8 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   // fewer than 2 voxels along an axis, and then classes with c = 1 are empty.
   const int half = std::max(1, n / 2);
   const int planes = layout.z_end - layout.z_begin;
-  std::vector<Coord> updates(static_cast<std::size_t>(half) * half * std::max(1, (planes + 1) / 2));
+  std::vector<Position> updates(static_cast<std::size_t>(half) * half *
+                                std::max(1, (planes + 1) / 2));
   // Replicated levels are computed in full on every rank: count them once.
   const bool counted = !layout.replicated || comm_.rank == 0;
   double distance_sum = 0.0;

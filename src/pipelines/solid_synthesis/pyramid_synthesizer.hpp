@@ -96,7 +96,8 @@ private:
   /// False when `stop` abandoned the correction between subpasses.
   bool correct(CoordinateSlab& slab, int level, const std::optional<LevelJacobians>& jacobians,
                LevelStats& stats, const StopCheck& stop = {}) const;
-  Coord wrapped(const Coord& c) const;
+  /// c wrapped into the exemplar, fraction kept.
+  Position wrapped(const Position& c) const;
 
   par::Comm comm_;
   SynthesisExemplar exemplar_;

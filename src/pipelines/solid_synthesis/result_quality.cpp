@@ -8,12 +8,61 @@
 
 #include <mpi.h>
 
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
+namespace {
+
+/// v in fixed point, rounded to nearest (halves up).
+std::int32_t fixed_point(float v) {
+  return static_cast<std::int32_t>(std::floor(v * float(1 << kSubvoxelBits) + 0.5f));
+}
+
+/// The result's colour window around voxel p in the field's frame, `window`^3 voxels x fastest
+/// into `out`: window offset delta (exemplar axes) lies at output point p + A^-1 delta, and is
+/// read through the voxel q nearest to it (at most kSlabHalo away per axis) as the exemplar
+/// colour at S[q] + delta - A (q - p), q's continuation of its patch. A = I gives S[p + delta],
+/// the plain window; an exactly warped copy of the exemplar gives the exemplar's own window.
+void framed_window(const CoordinateSlab& slab, const LevelJacobians* jacobians,
+                   const vol::ChannelGrid& exemplar_colours, int i, int j, int k, int window,
+                   vol::ChannelGrid& out) {
+  const int reach = window / 2;
+  for (int dz = -reach; dz <= reach; ++dz)
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        Position position;
+        if (jacobians) {
+          const Eigen::Vector3f delta{float(dx), float(dy), float(dz)};
+          const Eigen::Vector3f at = jacobians->a_inverse(i, j, k) * delta;
+          const auto step = [](float v) {
+            return std::clamp(static_cast<int>(std::floor(v + 0.5f)), -kSlabHalo, kSlabHalo);
+          };
+          const Eigen::Vector3i q(step(at.x()), step(at.y()), step(at.z()));
+          const Eigen::Vector3f shift = delta - jacobians->a(i, j, k) * q.cast<float>();
+          position =
+              slab.at(i + q.x(), j + q.y(), k + q.z()) +
+              Position{fixed_point(shift.x()), fixed_point(shift.y()), fixed_point(shift.z())};
+        } else {
+          position = slab.at(i + dx, j + dy, k + dz);
+        }
+        const Coord c = position.voxel();
+        const auto colour = exemplar_colours.voxel(exemplar_colours.periodic_index(c.x, c.y, c.z));
+        std::copy(colour.begin(), colour.end(),
+                  out.voxel(out.index(dx + reach, dy + reach, dz + reach)).begin());
+      }
+}
+
+} // namespace
+
 double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& slab,
-                                const std::array<int, 3>& dims, const AppearanceLevel& finest,
+                                const LevelJacobians* jacobians, const std::array<int, 3>& dims,
+                                const AppearanceLevel& finest,
                                 const vol::ChannelGrid& exemplar_colours, int stride) {
   TEXSIM_VERIFY(stride > 0, "neighbourhood_error: stride must be positive, got " << stride);
   const int reach = finest.window / 2;
@@ -21,21 +70,26 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
                                          << "past the slab's " << kSlabHalo << "-plane halo");
   // On every rank, so that an exemplar without a scale fails them all alike.
   const double spread = appearance_spread(finest.features);
-  const int dimension = finest.features.channels();
-  const int n = slab.size();
+  const auto dimension = static_cast<std::size_t>(finest.features.channels());
   const PlaneRange planes = reported_planes(comm, slab, dims[2]);
-  // Sample planes one at a time: the colours of the planes a sample's neighbourhood covers.
-  std::vector<float> queries;
   const int first = (planes.begin + stride - 1) / stride * stride;
-  for (int k = first; k < planes.end; k += stride) {
-    const vol::ChannelGrid around =
-        coloured_planes(slab, exemplar_colours, n, n, k - reach, 2 * reach + 1);
+  std::vector<std::array<int, 3>> samples;
+  for (int k = first; k < planes.end; k += stride)
     for (int j = 0; j < dims[1]; j += stride)
-      for (int i = 0; i < dims[0]; i += stride) {
-        queries.resize(queries.size() + static_cast<std::size_t>(dimension));
-        project_neighbourhood(finest, around, i, j, reach,
-                              std::span<float>(queries).last(static_cast<std::size_t>(dimension)));
-      }
+      for (int i = 0; i < dims[0]; i += stride)
+        samples.push_back({i, j, k});
+  std::vector<float> queries(samples.size() * dimension);
+#pragma omp parallel
+  {
+    vol::ChannelGrid window({finest.window, finest.window, finest.window},
+                            exemplar_colours.channels());
+#pragma omp for schedule(static)
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+      const auto [i, j, k] = samples[s];
+      framed_window(slab, jacobians, exemplar_colours, i, j, k, finest.window, window);
+      project_neighbourhood(finest, window, reach, reach, reach,
+                            std::span<float>(queries).subspan(s * dimension, dimension));
+    }
   }
   const std::vector<double> mine = nearest_appearance_distances(queries, finest.features);
   // Added on rank 0 in rank order, the volume's order: the same sum for any rank count.

@@ -3,6 +3,7 @@
 /// measures its own slab, so no rank needs the whole result. Each gives the same value on every
 /// rank and for any rank count (partial results travel to rank 0 and are added there in the
 /// volume's order, or are exact integer counts).
+#include "pipelines/solid_synthesis/anisometric_field.hpp"
 #include "pipelines/solid_synthesis/appearance_space.hpp"
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "vol/channel_grid.hpp"
@@ -16,9 +17,17 @@ namespace texsim::pipelines::solid_synthesis {
 /// neighbourhood read from the synthesized level around it (periodic in x and y at the level's
 /// size, z from the slab's halo, which must be current): a crop smaller than the level does not
 /// count seams of its own. `finest` is the finest appearance level (window at most
-/// 2 kSlabHalo + 1). Collective.
+/// 2 kSlabHalo + 1).
+///
+/// Under an anisometric field (`jacobians` of the finest level's owned planes; null: isometric)
+/// the neighbourhood is taken in the field's frame, the frame the synthesis matches in: window
+/// offset delta lies at p + A^-1 delta, read through its nearest voxel q as the exemplar colour
+/// at S[q] + delta - A (q - p). An axis-aligned window would count every correctly turned edge
+/// as an error (a rotated copy of bricks never matches the upright exemplar); this one is 0 for
+/// an exactly warped copy and equals the axis-aligned window for A = I. Collective.
 double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& slab,
-                                const std::array<int, 3>& dims, const AppearanceLevel& finest,
+                                const LevelJacobians* jacobians, const std::array<int, 3>& dims,
+                                const AppearanceLevel& finest,
                                 const vol::ChannelGrid& exemplar_colours, int stride);
 
 /// histogram_distance (synthesis_metrics.hpp) between the colours of the result cropped to

@@ -11,7 +11,7 @@ vol::ChannelGrid coloured_planes(const CoordinateSlab& slab, const vol::ChannelG
   for (int k = 0; k < planes; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        const auto colour = colour_at(exemplar, slab.at(i, j, k_first + k));
+        const auto colour = colour_at(exemplar, slab.voxel(i, j, k_first + k));
         std::copy(colour.begin(), colour.end(), colours.voxel(colours.index(i, j, k)).begin());
       }
   return colours;

@@ -51,19 +51,19 @@ nlohmann::json level_json(const par::Comm& comm, const LevelStats& stats,
   std::int64_t owned = (layout.z_end - layout.z_begin) * plane;
   MPI_Allreduce(MPI_IN_PLACE, &owned, 1, MPI_INT64_T, MPI_MAX, comm.raw);
   const bool split = !layout.replicated;
-  return {
-      {"level", stats.level},
-      {"spacing", stats.spacing},
-      {"stack_level", stats.stack_level},
-      {"corrected", stats.corrected},
-      {"mean_match_distance", stats.mean_match_distance},
-      {"replicated", layout.replicated && comm.size > 1},
-      {"voxels_max_rank", owned},
-      {"halo_exchanges", stats.halo_exchanges},
-      {"passes", stats.passes},
-      {"pass_mean_match_distances", stats.pass_distances},
-      {"ranks_computing", layout.replicated ? comm.size : layout.ranks},
-      {"halo_bytes_per_exchange", split ? 2 * kSlabHalo * plane * std::int64_t{sizeof(Coord)} : 0}};
+  return {{"level", stats.level},
+          {"spacing", stats.spacing},
+          {"stack_level", stats.stack_level},
+          {"corrected", stats.corrected},
+          {"mean_match_distance", stats.mean_match_distance},
+          {"replicated", layout.replicated && comm.size > 1},
+          {"voxels_max_rank", owned},
+          {"halo_exchanges", stats.halo_exchanges},
+          {"passes", stats.passes},
+          {"pass_mean_match_distances", stats.pass_distances},
+          {"ranks_computing", layout.replicated ? comm.size : layout.ranks},
+          {"halo_bytes_per_exchange",
+           split ? 2 * kSlabHalo * plane * std::int64_t{sizeof(Position)} : 0}};
 }
 
 } // namespace
@@ -225,18 +225,22 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     const int largest = *std::max_element(settings_.dims.begin(), settings_.dims.end());
     const int stride = settings_.metric_stride > 0 ? settings_.metric_stride
                                                    : std::max(1, largest / kMetricSamplesPerAxis);
-    const double error = slab_neighbourhood_error(comm, *slab, settings_.dims, space.levels.front(),
-                                                  space.colours, stride);
+    const double error =
+        slab_neighbourhood_error(comm, *slab, finest_jacobians ? &*finest_jacobians : nullptr,
+                                 settings_.dims, space.levels.front(), space.colours, stride);
     const double histogram = slab_histogram_distance(comm, *slab, settings_.dims, space.colours);
     nlohmann::json quality = {{"neighbourhood_error", error},
                               {"neighbourhood_error_stride", stride},
                               {"histogram_distance", histogram},
                               {"incoherent_fraction", incoherent}};
-    // A rotated or warped copy has no constant offset: isometric runs only.
+    // A copy warped by a varying field has no constant offset: isometric and uniform fields only.
+    const std::optional<Eigen::Matrix3f> uniform =
+        finest_jacobians ? uniform_jacobian(comm, *finest_jacobians)
+                         : std::optional(Eigen::Matrix3f(Eigen::Matrix3f::Identity()));
     quality["largest_offset_share"] =
-        field ? nlohmann::json()
-              : nlohmann::json(
-                    largest_offset_share(comm, *slab, space.colours.dims(), settings_.dims));
+        uniform ? nlohmann::json(largest_offset_share(comm, *slab, &*uniform, space.colours.dims(),
+                                                      settings_.dims))
+                : nlohmann::json();
     report.metric("quality", quality);
     log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram,
                        ", incoherent voxels ", incoherent));

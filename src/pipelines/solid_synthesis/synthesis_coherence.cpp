@@ -7,9 +7,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
+
+namespace {
+
+std::int32_t rounded(float v) {
+  return static_cast<std::int32_t>(std::floor(v + 0.5f));
+}
+
+} // namespace
 
 double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
@@ -20,7 +29,6 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
            vol::ChannelGrid::wrap(a.y - b.y, exemplar.ny) == 0 &&
            vol::ChannelGrid::wrap(a.z - b.z, exemplar.nz) == 0;
   };
-  const auto rounded = [](float v) { return static_cast<std::int32_t>(std::floor(v + 0.5f)); };
   const bool counts = !layout.replicated || comm.is_root();
   const int z_end = counts ? std::min(layout.z_end, crop[2]) : layout.z_begin;
   std::int64_t incoherent = 0, voxels = 0;
@@ -28,20 +36,20 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
   for (int k = layout.z_begin; k < z_end; ++k)
     for (int j = 0; j < crop[1]; ++j)
       for (int i = 0; i < crop[0]; ++i) {
-        const Coord s = slab.at(i, j, k);
+        const Position s = slab.at(i, j, k);
         bool continued = false;
         for (int axis = 0; axis < 3 && !continued; ++axis)
           for (const int sign : {-1, 1}) {
-            Coord step{0, 0, 0};
+            Position step{0, 0, 0};
             if (jacobians) {
-              const auto column = jacobians->a(i, j, k).col(axis) * float(sign);
+              const auto column = jacobians->a(i, j, k).col(axis) * float(sign << kSubvoxelBits);
               step = {rounded(column.x()), rounded(column.y()), rounded(column.z())};
             } else {
-              (axis == 0 ? step.x : axis == 1 ? step.y : step.z) = sign;
+              (axis == 0 ? step.x : axis == 1 ? step.y : step.z) = sign << kSubvoxelBits;
             }
-            const Coord neighbour = slab.at(i + (axis == 0 ? sign : 0), j + (axis == 1 ? sign : 0),
-                                            k + (axis == 2 ? sign : 0));
-            if (same(neighbour, s + step)) {
+            const Position neighbour = slab.at(
+                i + (axis == 0 ? sign : 0), j + (axis == 1 ? sign : 0), k + (axis == 2 ? sign : 0));
+            if (same(neighbour.voxel(), (s + step).voxel())) {
               continued = true;
               break;
             }
@@ -55,7 +63,10 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
 }
 
 double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
-                            const vol::Dims& exemplar, const std::array<int, 3>& crop) {
+                            const Eigen::Matrix3f* uniform_jacobian, const vol::Dims& exemplar,
+                            const std::array<int, 3>& crop) {
+  const Eigen::Matrix3f a =
+      uniform_jacobian ? *uniform_jacobian : Eigen::Matrix3f(Eigen::Matrix3f::Identity());
   const LevelLayout& layout = slab.layout();
   const bool counts = !layout.replicated || comm.is_root();
   const int z_end = counts ? std::min(layout.z_end, crop[2]) : layout.z_begin;
@@ -63,12 +74,16 @@ double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
   for (int k = layout.z_begin; k < z_end; ++k)
     for (int j = 0; j < crop[1]; ++j)
       for (int i = 0; i < crop[0]; ++i) {
-        const Coord s = slab.at(i, j, k);
+        const Eigen::Vector3f moved =
+            float(1 << kSubvoxelBits) * (a * Eigen::Vector3f(float(i), float(j), float(k)));
+        const Coord s = (slab.at(i, j, k) -
+                         Position{rounded(moved.x()), rounded(moved.y()), rounded(moved.z())})
+                            .voxel();
         const std::size_t offset =
-            (std::size_t(vol::ChannelGrid::wrap(s.z - k, exemplar.nz)) * exemplar.ny +
-             std::size_t(vol::ChannelGrid::wrap(s.y - j, exemplar.ny))) *
+            (std::size_t(vol::ChannelGrid::wrap(s.z, exemplar.nz)) * exemplar.ny +
+             std::size_t(vol::ChannelGrid::wrap(s.y, exemplar.ny))) *
                 exemplar.nx +
-            std::size_t(vol::ChannelGrid::wrap(s.x - i, exemplar.nx));
+            std::size_t(vol::ChannelGrid::wrap(s.x, exemplar.nx));
         ++voxels_per_offset[offset];
       }
   MPI_Allreduce(MPI_IN_PLACE, voxels_per_offset.data(), int(voxels_per_offset.size()), MPI_INT64_T,
@@ -79,6 +94,24 @@ double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
     most = std::max(most, count);
   }
   return total > 0 ? double(most) / double(total) : 0.0;
+}
+
+std::optional<Eigen::Matrix3f> uniform_jacobian(const par::Comm& comm,
+                                                const LevelJacobians& jacobians) {
+  // Rank 0's first matrix (identity where it holds none) against every matrix of every rank.
+  Eigen::Matrix3f first = jacobians.jacobian.empty() ? Eigen::Matrix3f(Eigen::Matrix3f::Identity())
+                                                     : jacobians.jacobian.front();
+  MPI_Bcast(first.data(), 9, MPI_FLOAT, 0, comm.raw);
+  int uniform = std::all_of(jacobians.jacobian.begin(), jacobians.jacobian.end(),
+                            [&](const Eigen::Matrix3f& a) {
+                              return std::memcmp(a.data(), first.data(), sizeof(float) * 9) == 0;
+                            })
+                    ? 1
+                    : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &uniform, 1, MPI_INT, MPI_LAND, comm.raw);
+  if (!uniform)
+    return std::nullopt;
+  return first;
 }
 
 } // namespace texsim::pipelines::solid_synthesis

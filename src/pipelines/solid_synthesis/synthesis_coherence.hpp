@@ -8,25 +8,36 @@
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "vol/dense_grid.hpp"
 
+#include <Eigen/Core>
+
 #include <array>
+#include <optional>
 
 namespace texsim::pipelines::solid_synthesis {
 
-/// Fraction of the voxels of the box [0, crop) whose exemplar coordinate none of their 6 axis
-/// neighbours continues: for every e in {+-x, +-y, +-z}, S(p + e) differs (modulo the exemplar
-/// size) from S(p) + round(A(p) e), rounding each component to the nearest integer as the
-/// upsampling does. `jacobians` (null: A = I) cover the slab's owned planes. The slab's halo must
-/// be current. Collective: counts over every rank's owned planes (a replicated level once).
+/// Fraction of the voxels of the box [0, crop) whose exemplar position none of their 6 axis
+/// neighbours continues: for every e in {+-x, +-y, +-z}, the nearest voxel of S(p + e) differs
+/// (modulo the exemplar size) from the nearest voxel of S(p) + A(p) e (A e in fixed point, as
+/// the upsampling has it). `jacobians` (null: A = I) cover the slab's owned planes. The slab's halo
+/// must be current. Collective: counts over every rank's owned planes (a replicated level once).
 double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
                            const std::array<int, 3>& crop);
 
-/// Fraction of the voxels of the box [0, crop) that share the most common offset S(p) - p
-/// (modulo the exemplar size): 1 / (number of voxels) for a volume of isolated copies, near 1 for
-/// one shifted copy of the exemplar. Read with incoherent_fraction: low incoherence says little
-/// when one offset holds most of the volume. Meaningful for isometric synthesis only (a rotated
-/// copy has no constant offset). Collective: one count per exemplar voxel, summed over ranks.
+/// Fraction of the voxels of the box [0, crop) that share the most common offset S(p) - A p
+/// (its nearest voxel, modulo the exemplar size; A = I when `uniform_jacobian` is null): 1 /
+/// (number of voxels) for a volume of isolated copies, near 1 for one shifted (or, under a
+/// uniform field, one turned) copy of the exemplar. Read with incoherent_fraction: low
+/// incoherence says little when one offset holds most of the volume. Needs A the same at every
+/// voxel (a warped copy under a varying field has no constant offset). Collective: one count per
+/// exemplar voxel, summed over ranks.
 double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
-                            const vol::Dims& exemplar, const std::array<int, 3>& crop);
+                            const Eigen::Matrix3f* uniform_jacobian, const vol::Dims& exemplar,
+                            const std::array<int, 3>& crop);
+
+/// A_l if it is the same (to the bit) at every voxel of `jacobians` on every rank, else nullopt.
+/// Collective.
+std::optional<Eigen::Matrix3f> uniform_jacobian(const par::Comm& comm,
+                                                const LevelJacobians& jacobians);
 
 } // namespace texsim::pipelines::solid_synthesis

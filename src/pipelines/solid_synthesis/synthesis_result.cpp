@@ -16,7 +16,7 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// S on planes [begin, end) of the slab inside the crop box, plane by plane, x fastest.
+/// S's voxels on planes [begin, end) of the slab inside the crop box, plane by plane, x fastest.
 std::vector<Coord> cropped_planes(const CoordinateSlab& slab, const std::array<int, 3>& dims,
                                   PlaneRange planes) {
   std::vector<Coord> out;
@@ -25,7 +25,7 @@ std::vector<Coord> cropped_planes(const CoordinateSlab& slab, const std::array<i
   for (int k = planes.begin; k < planes.end; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i)
-        out.push_back(slab.at(i, j, k));
+        out.push_back(slab.voxel(i, j, k));
   return out;
 }
 
@@ -128,7 +128,7 @@ std::vector<std::filesystem::path> write_parallel_result(const par::Comm& comm,
     for (int k = 0; k < piece.nz; ++k)
       for (int j = 0; j < piece.ny; ++j)
         for (int i = 0; i < piece.nx; ++i)
-          grid.at(i, j, k) = value_of(slab.at(i, j, z_first + k));
+          grid.at(i, j, k) = value_of(slab.voxel(i, j, z_first + k));
     return grid;
   };
   std::vector<std::filesystem::path> written;
