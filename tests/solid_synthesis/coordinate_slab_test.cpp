@@ -140,8 +140,8 @@ TEST(CorrectionStencil, RotationTurnsTheNeighbourDirections) {
 
 /// Eqs. (6)-(7) written out entry by entry, one Eigen product, normalisation and std::floor
 /// each: what make_stencil's batched evaluation must reproduce bit for bit.
-CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a,
-                                  const Eigen::Matrix3f& a_inverse) {
+CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a, const Eigen::Matrix3f& a_inverse,
+                                  const NeighbourJacobian& neighbour = {}) {
   const auto rounded = [](const Eigen::Vector3f& v) {
     return Coord{static_cast<std::int32_t>(std::floor(v.x() + 0.5f)),
                  static_cast<std::int32_t>(std::floor(v.y() + 0.5f)),
@@ -152,10 +152,11 @@ CorrectionStencil literal_stencil(int h, const Eigen::Matrix3f& a,
     const float length = phi.norm();
     return length > 0.0f ? rounded(phi / length) : rounded(d.normalized());
   };
-  // h A o in fixed point.
+  // h A o in fixed point, A the mean of the two ends' Jacobians with `neighbour`.
   const auto shift = [&](const Coord& o) {
+    const Eigen::Matrix3f m = neighbour ? Eigen::Matrix3f((a + neighbour(o)) * 0.5f) : a;
     const Coord c = rounded(static_cast<float>(h << kSubvoxelBits) *
-                            (a * Eigen::Vector3f(float(o.x), float(o.y), float(o.z))));
+                            (m * Eigen::Vector3f(float(o.x), float(o.y), float(o.z))));
     return Position{c.x, c.y, c.z};
   };
   CorrectionStencil stencil;
@@ -219,9 +220,26 @@ TEST(CorrectionStencil, MatchesTheLiteralFormulaBitForBit) {
     if (!(std::abs(frame.determinant()) >= kSingularFrameDeterminant))
       continue;
     const Eigen::Matrix3f jacobian = frame.inverse();
+    // A field that turns: A_q = A rotated a little, by an angle that depends on q - p.
+    std::array<Eigen::Matrix3f, 125> turned;
+    for (int o = 0; o < 125; ++o)
+      turned[o] =
+          jacobian * Eigen::AngleAxisf(0.01f * float(o + trial % 7), Eigen::Vector3f::UnitZ())
+                         .toRotationMatrix();
+    const NeighbourJacobian turning = [&](const Coord& o) -> const Eigen::Matrix3f& {
+      return turned.at(std::size_t((o.x + 2) + 5 * ((o.y + 2) + 5 * (o.z + 2))));
+    };
+    const NeighbourJacobian constant = [&](const Coord&) -> const Eigen::Matrix3f& {
+      return jacobian;
+    };
     for (int h : {1, 2, 8, 64}) {
       expect_same_stencil(make_stencil(h, jacobian, frame), literal_stencil(h, jacobian, frame),
                           frame, h);
+      expect_same_stencil(make_stencil(h, jacobian, frame, turning),
+                          literal_stencil(h, jacobian, frame, turning), frame, h);
+      // A uniform field: the same bits as the stencil without neighbours.
+      expect_same_stencil(make_stencil(h, jacobian, frame, constant),
+                          make_stencil(h, jacobian, frame), frame, h);
       if (::testing::Test::HasFailure())
         return;
     }

@@ -51,8 +51,8 @@ TEST(IncoherentFraction, TheJacobianSaysWhatContinuesAVoxel) {
   // A = 2 I: a coherent anisometric copy steps by 2 exemplar voxels per output voxel.
   const par::Comm comm = par::world();
   const LevelLayout layout = level_layout(kLevel, comm.rank, comm.size);
-  LevelJacobians doubled =
-      sample_level(*identity_field(), kSize, layout.z_begin, layout.z_end, kSize);
+  LevelJacobians doubled = sample_level(*identity_field(), kSize, layout.z_begin - kSlabHalo,
+                                        layout.z_end + kSlabHalo, kSize);
   for (auto& a : doubled.jacobian)
     a *= 2.0f;
   const auto stretched = [](int i, int j, int k) { return Coord{2 * i, 2 * j, 2 * k}; };
@@ -66,8 +66,9 @@ TEST(IncoherentFraction, RotatedCopiesAreCoherentRoundedOrNot) {
   // 1/256 voxel, as the synthesis keeps positions, is coherent too.
   const par::Comm comm = par::world();
   const LevelLayout layout = level_layout(kLevel, comm.rank, comm.size);
-  const LevelJacobians turned = sample_level(*rotation_field(Eigen::Vector3d::UnitZ(), 30.0), kSize,
-                                             layout.z_begin, layout.z_end, kSize);
+  const LevelJacobians turned =
+      sample_level(*rotation_field(Eigen::Vector3d::UnitZ(), 30.0), kSize,
+                   layout.z_begin - kSlabHalo, layout.z_end + kSlabHalo, kSize);
   const Eigen::Matrix3f a = turned.a(0, 0, layout.z_begin);
   for (const int bits : {0, kSubvoxelBits}) {
     const float scale = float(1 << bits);

@@ -60,6 +60,12 @@ struct LevelJacobians {
   const Eigen::Matrix3f& a(int i, int j, int k) const { return jacobian[index(i, j, k)]; }
   /// A_l^-1 at voxel (i, j, k).
   const Eigen::Matrix3f& a_inverse(int i, int j, int k) const { return inverse[index(i, j, k)]; }
+  /// A_l at voxel (i, j, k) with i and j any integers (periodic, as the level is), k within the
+  /// sampled planes.
+  const Eigen::Matrix3f& a_periodic(int i, int j, int k) const {
+    return a((i % level_size + level_size) % level_size, (j % level_size + level_size) % level_size,
+             k);
+  }
 
 private:
   std::size_t index(int i, int j, int k) const;

@@ -101,7 +101,8 @@ constexpr int axis_direction(int axis, bool positive) {
 } // namespace
 
 CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
-                               const Eigen::Matrix3f& inverse_jacobian) {
+                               const Eigen::Matrix3f& inverse_jacobian,
+                               const NeighbourJacobian& neighbour) {
   // The directions to warp: the 8 diagonals Delta, then the 6 signed axes, since
   // phi~(M Delta) = phi~(Delta_m e_m) whatever the other components of Delta.
   constexpr int kDirections = kDiagonalCount + 6;
@@ -126,8 +127,26 @@ CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
                   warped[d] + warped[axis_direction(axis, (d >> axis) & 1)]);
   }
   // h A (q - p) in fixed point: the scale 2^kSubvoxelBits h is exact in float.
-  const std::array<Coord, kOffsets> shifts =
-      rounded(product(static_cast<float>(h << kSubvoxelBits), jacobian, offsets));
+  const float scale = static_cast<float>(h << kSubvoxelBits);
+  std::array<Coord, kOffsets> shifts;
+  if (!neighbour) {
+    shifts = rounded(product(scale, jacobian, offsets));
+  } else {
+    VectorBatch<kOffsets> displacement;
+    for (int at = 0; at < kOffsets; ++at) {
+      const Coord offset{static_cast<std::int32_t>(offsets.x[at]),
+                         static_cast<std::int32_t>(offsets.y[at]),
+                         static_cast<std::int32_t>(offsets.z[at])};
+      const Eigen::Matrix3f mean = (jacobian + neighbour(offset)) * 0.5f;
+      VectorBatch<1> one;
+      one.set(0, offset);
+      const VectorBatch<1> moved = product(scale, mean, one);
+      displacement.x[at] = moved.x[0];
+      displacement.y[at] = moved.y[0];
+      displacement.z[at] = moved.z[0];
+    }
+    shifts = rounded(displacement);
+  }
   const auto position = [](const Coord& c) { return Position{c.x, c.y, c.z}; };
 
   CorrectionStencil stencil;

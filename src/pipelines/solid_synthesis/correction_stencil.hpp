@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <functional>
 
 namespace texsim::pipelines::solid_synthesis {
 
@@ -38,11 +39,20 @@ struct CorrectionStencil {
   std::array<Coord, kDiagonalCount> exemplar_offset;
 };
 
-/// The stencil at spacing h for Jacobian A and its inverse (identity: the isometric case). A pure
-/// function of (h, A, A^-1), evaluated in batches that give the bits of the per-entry Eigen
-/// formula (coordinate_slab_test.cpp compares the two): every anisometric voxel needs its own.
+/// A_l at p + offset, for a field that varies between voxels.
+using NeighbourJacobian = std::function<const Eigen::Matrix3f&(const Coord& offset)>;
+
+/// The stencil at spacing h for Jacobian A and its inverse at p (identity: the isometric case).
+/// Without `neighbour` every prediction uses A: h A (q - p). With it, a prediction through q uses
+/// the mean of the Jacobians at its two ends, h (A_p + A_q) / 2 (q - p): the trapezoid rule for
+/// the exemplar displacement along a field that turns between p and q, exact to second order
+/// where A_p alone is exact to first (a circular field turns 1/r radians a voxel at radius r). A
+/// uniform field gives the same bits either way. A pure function of (h, A, A^-1 and the A_q),
+/// evaluated in batches that give the bits of the per-entry Eigen formula
+/// (coordinate_slab_test.cpp compares the two): every anisometric voxel needs its own.
 CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
-                               const Eigen::Matrix3f& inverse_jacobian);
+                               const Eigen::Matrix3f& inverse_jacobian,
+                               const NeighbourJacobian& neighbour = {});
 
 /// h A (c - 1/2) in fixed point for child c in {0,1}^3 (x fastest): eq. (5)'s child offset. With
 /// A = I children are h apart, as in eq. (1) up to a constant shift.

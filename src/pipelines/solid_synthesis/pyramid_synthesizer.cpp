@@ -101,21 +101,28 @@ private:
   std::vector<Coord> candidates_;
 };
 
-/// The stencil of the last voxel a thread corrected, reused while A and A^-1 keep the same bits
-/// (constant fields, the rows of a zigzag field): make_stencil is a pure function of them.
+/// The stencil of the last voxel a thread corrected, reused while A, A^-1 and the A_q of the
+/// voxels it reads keep the same bits (constant fields, the inside of a zigzag band):
+/// make_stencil is a pure function of them.
 class StencilCache {
 public:
-  explicit StencilCache(int h) : h_(h) {}
+  StencilCache(int h, const LevelJacobians& jacobians) : h_(h), jacobians_(jacobians) {}
 
-  const CorrectionStencil& get(const Eigen::Matrix3f& jacobian,
-                               const Eigen::Matrix3f& inverse_jacobian) {
-    if (!valid_ || !same_bits(jacobian, jacobian_) ||
-        !same_bits(inverse_jacobian, inverse_jacobian_)) {
-      stencil_ = make_stencil(h_, jacobian, inverse_jacobian);
-      jacobian_ = jacobian;
-      inverse_jacobian_ = inverse_jacobian;
-      valid_ = true;
-    }
+  const CorrectionStencil& get(int i, int j, int k) {
+    const Eigen::Matrix3f& jacobian = jacobians_.a(i, j, k);
+    const Eigen::Matrix3f& inverse_jacobian = jacobians_.a_inverse(i, j, k);
+    if (valid_ && same_bits(jacobian, jacobian_) &&
+        same_bits(inverse_jacobian, inverse_jacobian_) && same_neighbours(i, j, k))
+      return stencil_;
+    stencil_ = make_stencil(
+        h_, jacobian, inverse_jacobian,
+        [&](const Coord& offset) -> const Eigen::Matrix3f& { return neighbour(i, j, k, offset); });
+    jacobian_ = jacobian;
+    inverse_jacobian_ = inverse_jacobian;
+    for (int d = 0; d < kDiagonalCount; ++d)
+      for (int m = 0; m < kSubNeighbourCount; ++m)
+        neighbours_[d][m] = neighbour(i, j, k, stencil_.sample[d][m]);
+    valid_ = true;
     return stencil_;
   }
 
@@ -123,12 +130,37 @@ private:
   static bool same_bits(const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
     return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
   }
+  const Eigen::Matrix3f& neighbour(int i, int j, int k, const Coord& offset) const {
+    return jacobians_.a_periodic(i + offset.x, j + offset.y, k + offset.z);
+  }
+  /// With the same A^-1 the stencil reads the same offsets; are their Jacobians the same too?
+  bool same_neighbours(int i, int j, int k) const {
+    for (int d = 0; d < kDiagonalCount; ++d)
+      for (int m = 0; m < kSubNeighbourCount; ++m)
+        if (!same_bits(neighbour(i, j, k, stencil_.sample[d][m]), neighbours_[d][m]))
+          return false;
+    return true;
+  }
 
   int h_;
+  const LevelJacobians& jacobians_;
   bool valid_ = false;
   Eigen::Matrix3f jacobian_, inverse_jacobian_;
+  std::array<std::array<Eigen::Matrix3f, kSubNeighbourCount>, kDiagonalCount> neighbours_;
   CorrectionStencil stencil_;
 };
+
+/// Whether every A and A^-1 of `jacobians` has the bits of the first.
+bool same_everywhere(const LevelJacobians& jacobians) {
+  const auto same = [](const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
+    return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
+  };
+  for (std::size_t v = 0; v < jacobians.jacobian.size(); ++v)
+    if (!same(jacobians.jacobian[v], jacobians.jacobian.front()) ||
+        !same(jacobians.inverse[v], jacobians.inverse.front()))
+      return false;
+  return true;
+}
 
 /// Per-thread buffers of best_match.
 struct MatchScratch {
@@ -299,7 +331,10 @@ std::optional<CoordinateSlab> PyramidSynthesizer::next_level(const CoordinateSla
 std::optional<LevelJacobians> PyramidSynthesizer::level_jacobians(const LevelLayout& layout) const {
   if (!field_)
     return std::nullopt;
-  return sample_level(*field_, layout.size, layout.z_begin, layout.z_end, 1 << options_.levels);
+  // The halo planes too: a stencil reads A at the voxels it predicts from.
+  const int halo = layout.z_begin < layout.z_end ? kSlabHalo : 0;
+  return sample_level(*field_, layout.size, layout.z_begin - halo, layout.z_end + halo,
+                      1 << options_.levels);
 }
 
 void PyramidSynthesizer::jitter(CoordinateSlab& slab, int level) const {
@@ -341,8 +376,13 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   const ExemplarLevelView exemplar(*exemplar_.features[s], *sets);
   const LevelLayout& layout = slab.layout();
   const int n = layout.size;
-  const CorrectionStencil isometric =
-      make_stencil(h, Eigen::Matrix3f::Identity(), Eigen::Matrix3f::Identity());
+  // One stencil for the level when A is the same everywhere this rank reads (isometric, slant):
+  // the mean of equal Jacobians is that Jacobian, so the per-voxel stencil would have its bits.
+  const bool uniform = !jacobians || same_everywhere(*jacobians);
+  const CorrectionStencil level_stencil =
+      jacobians && uniform && !jacobians->jacobian.empty()
+          ? make_stencil(h, jacobians->jacobian.front(), jacobians->inverse.front())
+          : make_stencil(h, Eigen::Matrix3f::Identity(), Eigen::Matrix3f::Identity());
   const auto incoherent_scale = static_cast<float>(1.0 + options_.coherence);
 
   // One class of the parity lattice: voxels (2a + cx, 2b + cy, 2c + cz); smaller levels have
@@ -373,7 +413,9 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
       std::int64_t subpass_fixed = 0;
 #pragma omp parallel reduction(+ : subpass_distance, subpass_fixed)
       {
-        StencilCache stencils(h);
+        std::optional<StencilCache> stencils;
+        if (!uniform)
+          stencils.emplace(h, *jacobians);
         MatchScratch scratch(exemplar);
 #pragma omp for schedule(static)
         for (int plane = 0; plane < class_planes; ++plane) {
@@ -381,9 +423,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
           for (int b = 0; b < row; ++b)
             for (int a = 0; a < row; ++a) {
               const int i = 2 * a + cx, j = 2 * b + cy;
-              const CorrectionStencil& stencil =
-                  jacobians ? stencils.get(jacobians->a(i, j, k), jacobians->a_inverse(i, j, k))
-                            : isometric;
+              const CorrectionStencil& stencil = stencils ? stencils->get(i, j, k) : level_stencil;
               const auto [best, distance] =
                   best_match(slab, i, j, k, stencil, exemplar, incoherent_scale, scratch);
               updates[(static_cast<std::size_t>(plane) * row + b) * row + a] = wrapped(best);

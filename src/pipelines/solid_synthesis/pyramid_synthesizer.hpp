@@ -91,7 +91,7 @@ public:
 
 private:
   void jitter(CoordinateSlab& slab, int level) const;
-  /// A_l and A_l^-1 over the slab's planes; none for isometric synthesis.
+  /// A_l and A_l^-1 over the slab's planes and halo; none for isometric synthesis.
   std::optional<LevelJacobians> level_jacobians(const LevelLayout& layout) const;
   /// False when `stop` abandoned the correction between subpasses.
   bool correct(CoordinateSlab& slab, int level, const std::optional<LevelJacobians>& jacobians,

@@ -27,7 +27,8 @@ std::int32_t fixed_point(float v) {
 /// The result's colour window around voxel p in the field's frame, `window`^3 voxels x fastest
 /// into `out`: window offset delta (exemplar axes) lies at output point p + A^-1 delta, and is
 /// read through the voxel q nearest to it (at most kSlabHalo away per axis) as the exemplar
-/// colour at S[q] + delta - A (q - p), q's continuation of its patch. A = I gives S[p + delta],
+/// colour at S[q] + delta - (A_p + A_q) / 2 (q - p), q's continuation of its patch (the
+/// synthesis' prediction, make_stencil). A = I gives S[p + delta],
 /// the plain window; an exactly warped copy of the exemplar gives the exemplar's own window.
 void framed_window(const CoordinateSlab& slab, const LevelJacobians* jacobians,
                    const vol::ChannelGrid& exemplar_colours, int i, int j, int k, int window,
@@ -44,7 +45,10 @@ void framed_window(const CoordinateSlab& slab, const LevelJacobians* jacobians,
             return std::clamp(static_cast<int>(std::floor(v + 0.5f)), -kSlabHalo, kSlabHalo);
           };
           const Eigen::Vector3i q(step(at.x()), step(at.y()), step(at.z()));
-          const Eigen::Vector3f shift = delta - jacobians->a(i, j, k) * q.cast<float>();
+          const Eigen::Matrix3f mean =
+              (jacobians->a(i, j, k) + jacobians->a_periodic(i + q.x(), j + q.y(), k + q.z())) *
+              0.5f;
+          const Eigen::Vector3f shift = delta - mean * q.cast<float>();
           position =
               slab.at(i + q.x(), j + q.y(), k + q.z()) +
               Position{fixed_point(shift.x()), fixed_point(shift.y()), fixed_point(shift.z())};
@@ -65,6 +69,11 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
                                 const AppearanceLevel& finest,
                                 const vol::ChannelGrid& exemplar_colours, int stride) {
   TEXSIM_VERIFY(stride > 0, "neighbourhood_error: stride must be positive, got " << stride);
+  const LevelLayout& layout = slab.layout();
+  TEXSIM_VERIFY(!jacobians || layout.z_begin == layout.z_end ||
+                    (jacobians->z_begin <= layout.z_begin - kSlabHalo &&
+                     jacobians->z_end >= layout.z_end + kSlabHalo),
+                "neighbourhood_error: the Jacobians must cover the owned planes and the halo");
   const int reach = finest.window / 2;
   TEXSIM_VERIFY(reach <= kSlabHalo, "a " << finest.window << "-voxel appearance window reaches "
                                          << "past the slab's " << kSlabHalo << "-plane halo");

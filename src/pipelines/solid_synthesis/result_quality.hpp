@@ -19,12 +19,13 @@ namespace texsim::pipelines::solid_synthesis {
 /// count seams of its own. `finest` is the finest appearance level (window at most
 /// 2 kSlabHalo + 1).
 ///
-/// Under an anisometric field (`jacobians` of the finest level's owned planes; null: isometric)
-/// the neighbourhood is taken in the field's frame, the frame the synthesis matches in: window
-/// offset delta lies at p + A^-1 delta, read through its nearest voxel q as the exemplar colour
-/// at S[q] + delta - A (q - p). An axis-aligned window would count every correctly turned edge
-/// as an error (a rotated copy of bricks never matches the upright exemplar); this one is 0 for
-/// an exactly warped copy and equals the axis-aligned window for A = I. Collective.
+/// Under an anisometric field (`jacobians` of the finest level's owned planes and kSlabHalo
+/// planes beyond; null: isometric) the neighbourhood is taken in the field's frame, the frame the
+/// synthesis matches in: window offset delta lies at p + A^-1 delta, read through its nearest
+/// voxel q as the exemplar colour at S[q] + delta - (A_p + A_q) / 2 (q - p). An axis-aligned window
+/// would count every correctly turned edge as an error (a rotated copy of bricks never matches the
+/// upright exemplar); this one is 0 for an exactly warped copy and equals the axis-aligned window
+/// for A = I. Collective.
 double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& slab,
                                 const LevelJacobians* jacobians, const std::array<int, 3>& dims,
                                 const AppearanceLevel& finest,

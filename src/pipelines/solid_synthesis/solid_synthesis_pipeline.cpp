@@ -213,9 +213,9 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     auto stage = ctx.timers.scope("output");
     slab->exchange_halo(comm); // the pieces share each next slab's first plane
     std::optional<LevelJacobians> finest_jacobians;
-    if (field)
-      finest_jacobians = sample_level(*field, slab->size(), slab->layout().z_begin,
-                                      slab->layout().z_end, slab->size());
+    if (field) // with the halo planes the metrics read through
+      finest_jacobians = sample_level(*field, slab->size(), slab->layout().z_begin - kSlabHalo,
+                                      slab->layout().z_end + kSlabHalo, slab->size());
     const double incoherent =
         incoherent_fraction(comm, *slab, finest_jacobians ? &*finest_jacobians : nullptr,
                             space.colours.dims(), settings_.dims);

@@ -1,5 +1,6 @@
 #include "pipelines/solid_synthesis/synthesis_coherence.hpp"
 
+#include "core/error.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <mpi.h>
@@ -24,6 +25,10 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
                            const std::array<int, 3>& crop) {
   const LevelLayout& layout = slab.layout();
+  TEXSIM_VERIFY(
+      !jacobians || layout.z_begin == layout.z_end ||
+          (jacobians->z_begin <= layout.z_begin - 1 && jacobians->z_end >= layout.z_end + 1),
+      "incoherent_fraction: the Jacobians must cover the owned planes and one beyond");
   const auto same = [&](const Coord& a, const Coord& b) {
     return vol::ChannelGrid::wrap(a.x - b.x, exemplar.nx) == 0 &&
            vol::ChannelGrid::wrap(a.y - b.y, exemplar.ny) == 0 &&
@@ -42,7 +47,13 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
           for (const int sign : {-1, 1}) {
             Position step{0, 0, 0};
             if (jacobians) {
-              const auto column = jacobians->a(i, j, k).col(axis) * float(sign << kSubvoxelBits);
+              // Mean of the two ends' Jacobians, as the synthesis predicts (make_stencil).
+              const Eigen::Matrix3f mean =
+                  (jacobians->a(i, j, k) + jacobians->a_periodic(i + (axis == 0 ? sign : 0),
+                                                                 j + (axis == 1 ? sign : 0),
+                                                                 k + (axis == 2 ? sign : 0))) *
+                  0.5f;
+              const auto column = mean.col(axis) * float(sign << kSubvoxelBits);
               step = {rounded(column.x()), rounded(column.y()), rounded(column.z())};
             } else {
               (axis == 0 ? step.x : axis == 1 ? step.y : step.z) = sign << kSubvoxelBits;

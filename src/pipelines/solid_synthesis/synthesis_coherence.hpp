@@ -17,8 +17,9 @@ namespace texsim::pipelines::solid_synthesis {
 
 /// Fraction of the voxels of the box [0, crop) whose exemplar position none of their 6 axis
 /// neighbours continues: for every e in {+-x, +-y, +-z}, the nearest voxel of S(p + e) differs
-/// (modulo the exemplar size) from the nearest voxel of S(p) + A(p) e (A e in fixed point, as
-/// the upsampling has it). `jacobians` (null: A = I) cover the slab's owned planes. The slab's halo
+/// (modulo the exemplar size) from the nearest voxel of S(p) + (A(p) + A(p + e)) / 2 e (in fixed
+/// point, as the synthesis predicts). `jacobians` (null: A = I) cover the slab's owned planes and
+/// one plane beyond. The slab's halo
 /// must be current. Collective: counts over every rank's owned planes (a replicated level once).
 double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
