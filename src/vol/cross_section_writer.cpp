@@ -133,17 +133,25 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
   return write_cross_sections(directory, basename, sections_of(colours, positions));
 }
 
+std::vector<std::filesystem::path> cross_section_paths(const std::filesystem::path& directory,
+                                                       const std::string& basename,
+                                                       const std::array<int, 3>& positions) {
+  std::vector<std::filesystem::path> paths;
+  for (int axis = 0; axis < 3; ++axis)
+    paths.push_back(directory /
+                    (basename + "_" + kAxisNames[axis] + std::to_string(positions[axis]) + ".png"));
+  paths.push_back(directory / (basename + "_slices.png"));
+  return paths;
+}
+
 std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::path& directory,
                                                         const std::string& basename,
                                                         const CrossSections& sections) {
   make_directory(directory);
-  std::vector<std::filesystem::path> paths;
-  for (int axis = 0; axis < 3; ++axis) {
-    paths.push_back(directory / (basename + "_" + kAxisNames[axis] +
-                                 std::to_string(sections.positions()[axis]) + ".png"));
-    img::write_png(paths.back(), sections.picture(axis));
-  }
-  paths.push_back(directory / (basename + "_slices.png"));
+  const std::vector<std::filesystem::path> paths =
+      cross_section_paths(directory, basename, sections.positions());
+  for (int axis = 0; axis < 3; ++axis)
+    img::write_png(paths[static_cast<std::size_t>(axis)], sections.picture(axis));
   img::write_png(paths.back(), side_by_side(sections));
   return paths;
 }

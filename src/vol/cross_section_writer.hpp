@@ -30,8 +30,10 @@ public:
   void add_planes(int z_first, std::span<const float> values);
 
   const std::array<int, 3>& positions() const { return positions_; }
-  /// The picture of plane `axis`; complete once every z-plane has been added.
+  /// The picture of plane `axis`; complete once every z-plane has been added. Pixels of planes not
+  /// added are 0, so the sections of disjoint plane ranges add up to the whole volume's.
   const img::RgbImage& picture(int axis) const { return pictures_[axis]; }
+  img::RgbImage& picture(int axis) { return pictures_[axis]; }
 
 private:
   Dims dims_;
@@ -59,6 +61,10 @@ std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::p
 std::vector<std::filesystem::path> write_cross_sections(const std::filesystem::path& directory,
                                                         const std::string& basename,
                                                         const CrossSections& sections);
+/// The paths write_cross_sections writes, in its order.
+std::vector<std::filesystem::path> cross_section_paths(const std::filesystem::path& directory,
+                                                       const std::string& basename,
+                                                       const std::array<int, 3>& positions);
 
 /// One picture comparing an exemplar with a synthesized result at the same voxel scale: the
 /// exemplar's three cross sections through its centre (x, y, z planes, left to right) above the

@@ -8,6 +8,8 @@
 #include "vol/parallel_vti_writer.hpp"
 #include "vol/vdb_io.hpp"
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <cstring>
 #include <optional>
@@ -16,17 +18,21 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// S's voxels on planes [begin, end) of the slab inside the crop box, plane by plane, x fastest.
-std::vector<Coord> cropped_planes(const CoordinateSlab& slab, const std::array<int, 3>& dims,
-                                  PlaneRange planes) {
-  std::vector<Coord> out;
-  out.reserve(std::size_t(std::max(0, planes.end - planes.begin)) * std::size_t(dims[0]) *
-              std::size_t(dims[1]));
-  for (int k = planes.begin; k < planes.end; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        out.push_back(slab.voxel(i, j, k));
-  return out;
+/// The cross sections a run writes: one set per position in `cross_sections`, then the
+/// comparison's row through the centres (like the exemplar's).
+std::vector<vol::CrossSections> empty_sections(const vol::Dims& grid, int channels,
+                                               const std::vector<int>& cross_sections) {
+  std::vector<vol::CrossSections> sections;
+  for (const int p : cross_sections)
+    sections.emplace_back(grid, channels, std::array<int, 3>{p, p, p});
+  sections.emplace_back(grid, channels, std::array<int, 3>{grid.nx / 2, grid.ny / 2, grid.nz / 2});
+  return sections;
+}
+
+/// The rank that writes section set s: not rank 0 while there are others, since rank 0 writes
+/// the .vdb meanwhile.
+int section_writer(const par::Comm& comm, std::size_t s) {
+  return comm.size == 1 ? 0 : 1 + static_cast<int>(s % std::size_t(comm.size - 1));
 }
 
 } // namespace
@@ -34,75 +40,96 @@ std::vector<Coord> cropped_planes(const CoordinateSlab& slab, const std::array<i
 std::vector<std::filesystem::path>
 write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
                        const CoordinateSlab& slab, const std::array<int, 3>& dims,
-                       const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections) {
+                       const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
+                       StageTimers& timers) {
   TEXSIM_VERIFY(dims[0] <= slab.size() && dims[1] <= slab.size() && dims[2] <= slab.size(),
                 "crop box larger than the synthesized level");
   const PlaneRange planes = reported_planes(comm, slab, dims[2]);
-  // Rank 0 reads its own planes from the slab; the others send theirs.
-  const std::vector<Coord> mine =
-      comm.is_root() ? std::vector<Coord>() : cropped_planes(slab, dims, planes);
-
   const vol::Dims grid{dims[0], dims[1], dims[2]};
   const int channels = exemplar.channels();
   std::optional<vol::VdbPlaneWriter> vdb;
-  std::vector<vol::CrossSections> sections;
-  if (comm.is_root()) {
+  if (comm.is_root())
     vdb.emplace(grid, channels, channels == 1 ? "density" : "colour");
-    for (const int p : cross_sections)
-      sections.emplace_back(grid, channels, std::array<int, 3>{p, p, p});
-    // The comparison's result row: through the centres, like the exemplar's.
-    sections.emplace_back(grid, channels,
-                          std::array<int, 3>{dims[0] / 2, dims[1] / 2, dims[2] / 2});
-  }
-  // Slabs are in z order by rank, so rank order is the volume's order; each plane is coloured as
-  // it arrives and dropped.
-  const std::size_t plane_voxels = std::size_t(dims[0]) * std::size_t(dims[1]);
-  int next_plane = 0;
-  const auto add_plane = [&](std::span<const float> colours) {
-    vdb->add_planes(colours);
-    for (vol::CrossSections& s : sections)
-      s.add_planes(next_plane, colours);
-    ++next_plane;
-  };
-  par::stream_to_root(
-      comm, std::as_bytes(std::span<const Coord>(mine)),
-      [&](int rank, std::span<const std::byte> bytes) {
-        if (rank == comm.rank) {
-          for (int k = planes.begin; k < planes.end; ++k)
-            add_plane(coloured_planes(slab, exemplar, dims[0], dims[1], k, 1).data());
-          return;
-        }
-        TEXSIM_VERIFY(bytes.size() % (plane_voxels * sizeof(Coord)) == 0,
-                      "rank " << rank << " sent " << bytes.size() << " bytes, not whole planes");
-        std::vector<float> plane(plane_voxels * std::size_t(channels));
-        for (std::size_t at = 0; at < bytes.size(); at += plane_voxels * sizeof(Coord)) {
-          for (std::size_t v = 0; v < plane_voxels; ++v) {
-            Coord c;
-            std::memcpy(&c, bytes.data() + at + v * sizeof(Coord), sizeof(Coord));
-            const auto colour = colour_at(exemplar, c);
-            std::copy(colour.begin(), colour.end(), plane.begin() + std::ptrdiff_t(v * channels));
-          }
-          add_plane(plane);
-        }
-      });
-  std::vector<std::filesystem::path> written;
-  // A file that cannot be written fails every rank, not rank 0 alone.
-  par::run_collectively(comm, [&] {
-    if (!comm.is_root())
-      return;
-    TEXSIM_VERIFY(next_plane == dims[2],
-                  "assembled " << next_plane << " planes of a " << dims[2] << "-plane result");
-    written.push_back(dir / "solid_synthesis.vdb");
-    vdb->write(written.back());
-    for (std::size_t s = 0; s + 1 < sections.size(); ++s) {
-      // One set per position: the combined image is named after the basename alone.
-      const auto slices = vol::write_cross_sections(
-          dir / "slices", "solid_synthesis_" + std::to_string(cross_sections[s]), sections[s]);
-      written.insert(written.end(), slices.begin(), slices.end());
+
+  // Every rank colours its own planes and takes their share of every cross section; rank 0 adds
+  // its planes (the lowest) to the .vdb at once and the others keep theirs for it.
+  std::vector<vol::CrossSections> sections = empty_sections(grid, channels, cross_sections);
+  std::vector<float> outgoing;
+  for (int k = planes.begin; k < planes.end; ++k) {
+    std::vector<float> colours;
+    {
+      auto stage = timers.scope("colouring");
+      const vol::ChannelGrid plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
+      colours.assign(plane.data().begin(), plane.data().end());
+      for (vol::CrossSections& s : sections)
+        s.add_planes(k, colours);
     }
-    written.push_back(
-        vol::write_comparison(dir / "slices" / "comparison.png", exemplar, sections.back()));
+    if (vdb) {
+      auto stage = timers.scope("assembly");
+      vdb->add_planes(colours);
+    } else {
+      outgoing.insert(outgoing.end(), colours.begin(), colours.end());
+    }
+  }
+  {
+    // Slabs are in z order by rank, so rank order is the volume's order; rank 0 holds the .vdb's
+    // sparse tree and one slab at a time, never a dense copy of the result.
+    auto stage = timers.scope("assembly");
+    const std::size_t plane_values = std::size_t(dims[0]) * std::size_t(dims[1]) * channels;
+    par::stream_to_root(comm, std::as_bytes(std::span<const float>(outgoing)),
+                        [&](int rank, std::span<const std::byte> bytes) {
+                          if (rank == comm.rank)
+                            return;
+                          TEXSIM_VERIFY(bytes.size() % (plane_values * sizeof(float)) == 0,
+                                        "rank " << rank << " sent " << bytes.size()
+                                                << " bytes, not whole planes");
+                          std::vector<float> values(bytes.size() / sizeof(float));
+                          std::memcpy(values.data(), bytes.data(), bytes.size());
+                          vdb->add_planes(values);
+                        });
+  }
+  {
+    // Each pixel comes from the one rank that owns its plane and is 0 elsewhere: the sum is
+    // exact, whatever order MPI adds in.
+    auto stage = timers.scope("slices");
+    for (std::size_t s = 0; s < sections.size(); ++s) {
+      const int writer = section_writer(comm, s);
+      for (int axis = 0; axis < 3; ++axis) {
+        std::span<img::Rgb> pixels = sections[s].picture(axis).data();
+        static_assert(sizeof(img::Rgb) == 3 * sizeof(float));
+        const int count = static_cast<int>(pixels.size() * 3);
+        MPI_Reduce(comm.rank == writer ? MPI_IN_PLACE : pixels.data(), pixels.data(), count,
+                   MPI_FLOAT, MPI_SUM, writer, comm.raw);
+      }
+    }
+  }
+  // A file that cannot be written fails every rank, not its writer alone.
+  par::run_collectively(comm, [&] {
+    if (vdb) {
+      auto stage = timers.scope("assembly");
+      vdb->write(dir / "solid_synthesis.vdb"); // checks that every plane arrived
+    }
+    auto stage = timers.scope("slices");
+    for (std::size_t s = 0; s < sections.size(); ++s) {
+      if (section_writer(comm, s) != comm.rank)
+        continue;
+      if (s + 1 < sections.size()) // one set per position, named after it
+        vol::write_cross_sections(
+            dir / "slices", "solid_synthesis_" + std::to_string(cross_sections[s]), sections[s]);
+      else
+        vol::write_comparison(dir / "slices" / "comparison.png", exemplar, sections[s]);
+    }
   });
+  std::vector<std::filesystem::path> written;
+  if (comm.is_root()) {
+    written.push_back(dir / "solid_synthesis.vdb");
+    for (const int p : cross_sections) {
+      const auto paths = vol::cross_section_paths(
+          dir / "slices", "solid_synthesis_" + std::to_string(p), {p, p, p});
+      written.insert(written.end(), paths.begin(), paths.end());
+    }
+    written.push_back(dir / "slices" / "comparison.png");
+  }
   return written;
 }
 
