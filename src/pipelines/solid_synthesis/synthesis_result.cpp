@@ -76,17 +76,20 @@ write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
     // sparse tree and one slab at a time, never a dense copy of the result.
     auto stage = timers.scope("assembly");
     const std::size_t plane_values = std::size_t(dims[0]) * std::size_t(dims[1]) * channels;
-    par::stream_to_root(comm, std::as_bytes(std::span<const float>(outgoing)),
-                        [&](int rank, std::span<const std::byte> bytes) {
-                          if (rank == comm.rank)
-                            return;
-                          TEXSIM_VERIFY(bytes.size() % (plane_values * sizeof(float)) == 0,
-                                        "rank " << rank << " sent " << bytes.size()
-                                                << " bytes, not whole planes");
-                          std::vector<float> values(bytes.size() / sizeof(float));
-                          std::memcpy(values.data(), bytes.data(), bytes.size());
-                          vdb->add_planes(values);
-                        });
+    par::stream_to_root(
+        comm, std::as_bytes(std::span<const float>(outgoing)),
+        [&](int rank, std::span<const std::byte> bytes) {
+          if (rank == comm.rank)
+            return;
+          TEXSIM_VERIFY(bytes.size() % (plane_values * sizeof(float)) == 0,
+                        "rank " << rank << " sent " << bytes.size() << " bytes, not whole planes");
+          // A plane at a time: no second copy of the slab on rank 0.
+          std::vector<float> plane(plane_values);
+          for (std::size_t at = 0; at < bytes.size(); at += plane_values * sizeof(float)) {
+            std::memcpy(plane.data(), bytes.data() + at, plane_values * sizeof(float));
+            vdb->add_planes(plane);
+          }
+        });
   }
   {
     // Each pixel comes from the one rank that owns its plane and is 0 elsewhere: the sum is
