@@ -92,6 +92,8 @@ TEST(AppearanceSpaceCache, LoadedSpaceIsBitwiseTheBuiltOne) {
     EXPECT_FALSE(load_appearance_space(comm, file, key).has_value()) << "no file yet";
     save_appearance_space(comm, file, key, built);
     EXPECT_TRUE(test::temporary_files_under(dir).empty());
+    comm.barrier(); // before rank 0 writes the next file
+
     const auto loaded = load_appearance_space(comm, file, key);
     ASSERT_TRUE(loaded.has_value());
     expect_identical(*loaded, built);

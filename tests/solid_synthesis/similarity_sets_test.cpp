@@ -287,6 +287,9 @@ TEST(SimilaritySetCache, RoundTripAndRefusals) {
   EXPECT_EQ(loaded->k, sets.k);
   EXPECT_EQ(loaded->candidates, sets.candidates);
   EXPECT_TRUE(test::temporary_files_under(dir).empty());
+  // Rank 0 writes again below: no rank may still be looking for temporary files then (a bcast
+  // lets rank 0 run ahead, and a rank that saw its next temporary file failed alone).
+  comm.barrier();
 
   const std::string other_key = similarity_cache_key(features, {4, 7, false});
   EXPECT_FALSE(load_similarity_sets(comm, file, other_key).has_value()) << "key mismatch";

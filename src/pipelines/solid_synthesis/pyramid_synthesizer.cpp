@@ -101,6 +101,11 @@ private:
   std::vector<Coord> candidates_;
 };
 
+/// Whether two matrices hold the same bits (a stencil is a pure function of them).
+bool same_bits(const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
+}
+
 /// The stencil of the last voxel a thread corrected, reused while A, A^-1 and the A_q of the
 /// voxels it reads keep the same bits (constant fields, the inside of a zigzag band):
 /// make_stencil is a pure function of them.
@@ -127,9 +132,6 @@ public:
   }
 
 private:
-  static bool same_bits(const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
-    return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
-  }
   const Eigen::Matrix3f& neighbour(int i, int j, int k, const Coord& offset) const {
     return jacobians_.a_periodic(i + offset.x, j + offset.y, k + offset.z);
   }
@@ -152,12 +154,9 @@ private:
 
 /// Whether every A and A^-1 of `jacobians` has the bits of the first.
 bool same_everywhere(const LevelJacobians& jacobians) {
-  const auto same = [](const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
-    return std::memcmp(a.data(), b.data(), sizeof(float) * 9) == 0;
-  };
   for (std::size_t v = 0; v < jacobians.jacobian.size(); ++v)
-    if (!same(jacobians.jacobian[v], jacobians.jacobian.front()) ||
-        !same(jacobians.inverse[v], jacobians.inverse.front()))
+    if (!same_bits(jacobians.jacobian[v], jacobians.jacobian.front()) ||
+        !same_bits(jacobians.inverse[v], jacobians.inverse.front()))
       return false;
   return true;
 }
