@@ -17,12 +17,6 @@ std::int32_t rounded(float x) {
   return truncated - (t < static_cast<float>(truncated) ? 1 : 0);
 }
 
-/// v in fixed point: round(2^kSubvoxelBits v).
-Position fixed_point(const Eigen::Vector3f& v) {
-  constexpr float scale = 1 << kSubvoxelBits;
-  return {rounded(scale * v.x()), rounded(scale * v.y()), rounded(scale * v.z())};
-}
-
 Eigen::Vector3f diagonal(int index) {
   return {index & 1 ? 1.0f : -1.0f, index & 2 ? 1.0f : -1.0f, index & 4 ? 1.0f : -1.0f};
 }
@@ -99,6 +93,11 @@ constexpr int axis_direction(int axis, bool positive) {
 }
 
 } // namespace
+
+Position fixed_point(const Eigen::Vector3f& v) {
+  constexpr float scale = 1 << kSubvoxelBits;
+  return {rounded(scale * v.x()), rounded(scale * v.y()), rounded(scale * v.z())};
+}
 
 CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
                                const Eigen::Matrix3f& inverse_jacobian,

@@ -54,6 +54,9 @@ CorrectionStencil make_stencil(int h, const Eigen::Matrix3f& jacobian,
                                const Eigen::Matrix3f& inverse_jacobian,
                                const NeighbourJacobian& neighbour = {});
 
+/// v voxels as a fixed-point position: round(2^kSubvoxelBits v), halves up.
+Position fixed_point(const Eigen::Vector3f& v);
+
 /// h A (c - 1/2) in fixed point for child c in {0,1}^3 (x fastest): eq. (5)'s child offset. With
 /// A = I children are h apart, as in eq. (1) up to a constant shift.
 std::array<Position, 8> child_offsets(int h, const Eigen::Matrix3f& jacobian);

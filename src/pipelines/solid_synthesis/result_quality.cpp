@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "img/colour_histogram.hpp"
 #include "par/gather_to_root.hpp"
+#include "pipelines/solid_synthesis/correction_stencil.hpp"
 #include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 
@@ -18,11 +19,6 @@
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
-
-/// v in fixed point, rounded to nearest (halves up).
-std::int32_t fixed_point(float v) {
-  return static_cast<std::int32_t>(std::floor(v * float(1 << kSubvoxelBits) + 0.5f));
-}
 
 /// The result's colour window around voxel p in the field's frame, `window`^3 voxels x fastest
 /// into `out`: window offset delta (exemplar axes) lies at output point p + A^-1 delta, and is
@@ -49,9 +45,7 @@ void framed_window(const CoordinateSlab& slab, const LevelJacobians* jacobians,
               (jacobians->a(i, j, k) + jacobians->a_periodic(i + q.x(), j + q.y(), k + q.z())) *
               0.5f;
           const Eigen::Vector3f shift = delta - mean * q.cast<float>();
-          position =
-              slab.at(i + q.x(), j + q.y(), k + q.z()) +
-              Position{fixed_point(shift.x()), fixed_point(shift.y()), fixed_point(shift.z())};
+          position = slab.at(i + q.x(), j + q.y(), k + q.z()) + fixed_point(shift);
         } else {
           position = slab.at(i + dx, j + dy, k + dz);
         }

@@ -1,5 +1,7 @@
 #include "pipelines/solid_synthesis/synthesis_coherence.hpp"
 
+#include "pipelines/solid_synthesis/correction_stencil.hpp"
+
 #include "core/error.hpp"
 #include "vol/channel_grid.hpp"
 
@@ -12,14 +14,6 @@
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
-
-namespace {
-
-std::int32_t rounded(float v) {
-  return static_cast<std::int32_t>(std::floor(v + 0.5f));
-}
-
-} // namespace
 
 double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                            const LevelJacobians* jacobians, const vol::Dims& exemplar,
@@ -53,8 +47,7 @@ double incoherent_fraction(const par::Comm& comm, const CoordinateSlab& slab,
                                                                  j + (axis == 1 ? sign : 0),
                                                                  k + (axis == 2 ? sign : 0))) *
                   0.5f;
-              const auto column = mean.col(axis) * float(sign << kSubvoxelBits);
-              step = {rounded(column.x()), rounded(column.y()), rounded(column.z())};
+              step = fixed_point(mean.col(axis) * float(sign));
             } else {
               (axis == 0 ? step.x : axis == 1 ? step.y : step.z) = sign << kSubvoxelBits;
             }
@@ -85,11 +78,9 @@ double largest_offset_share(const par::Comm& comm, const CoordinateSlab& slab,
   for (int k = layout.z_begin; k < z_end; ++k)
     for (int j = 0; j < crop[1]; ++j)
       for (int i = 0; i < crop[0]; ++i) {
-        const Eigen::Vector3f moved =
-            float(1 << kSubvoxelBits) * (a * Eigen::Vector3f(float(i), float(j), float(k)));
-        const Coord s = (slab.at(i, j, k) -
-                         Position{rounded(moved.x()), rounded(moved.y()), rounded(moved.z())})
-                            .voxel();
+        const Coord s =
+            (slab.at(i, j, k) - fixed_point(a * Eigen::Vector3f(float(i), float(j), float(k))))
+                .voxel();
         const std::size_t offset =
             (std::size_t(vol::ChannelGrid::wrap(s.z, exemplar.nz)) * exemplar.ny +
              std::size_t(vol::ChannelGrid::wrap(s.y, exemplar.ny))) *

@@ -56,14 +56,14 @@ write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
   std::vector<vol::CrossSections> sections = empty_sections(grid, channels, cross_sections);
   std::vector<float> outgoing;
   for (int k = planes.begin; k < planes.end; ++k) {
-    std::vector<float> colours;
+    vol::ChannelGrid plane;
     {
       auto stage = timers.scope("colouring");
-      const vol::ChannelGrid plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
-      colours.assign(plane.data().begin(), plane.data().end());
+      plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
       for (vol::CrossSections& s : sections)
-        s.add_planes(k, colours);
+        s.add_planes(k, plane.data());
     }
+    const std::span<const float> colours = plane.data();
     if (vdb) {
       auto stage = timers.scope("assembly");
       vdb->add_planes(colours);
