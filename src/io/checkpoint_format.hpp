@@ -5,7 +5,7 @@
 /// <dir>/step_000000100.h5 (written as <dir>/step_000000100.h5.tmp-<pid of rank 0>, flushed and
 /// renamed when complete, see core/atomic_output.hpp) holds
 /// one dataset per named array at the root, shape {count} or {count, components}, each with a
-/// "texsim_checksum" attribute (see checkpoint_checksum.hpp), and root attributes
+/// "texsim_checksum" attribute (see par/positional_checksum.hpp), and root attributes
 /// "texsim_format_version", "texsim_config_hash", "texsim_step" plus the caller's own.
 #include <cstdint>
 #include <filesystem>

@@ -1,11 +1,11 @@
 #include "io/checkpoint_reader.hpp"
 
-#include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
 #include "par/collective.hpp"
 #include "par/hdf5_call.hpp"
+#include "par/positional_checksum.hpp"
 
 #include <algorithm>
 #include <array>
@@ -160,8 +160,8 @@ std::uint64_t CheckpointReader::local_checksum_share(const std::string& name,
     TEXSIM_HDF5_CALL(H5Dread(dataset.get(), native_hdf5_type(info.type), memory.get(),
                              file_space.get(), H5P_DEFAULT, buffer.data()),
                      path_.string());
-    sum += checksum_block(buffer.data(), count * info.components, scalar_size(info.type),
-                          first * info.components);
+    sum += par::checksum_block(buffer.data(), count * info.components, scalar_size(info.type),
+                               first * info.components);
   }
   return sum;
 }

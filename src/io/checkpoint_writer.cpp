@@ -1,14 +1,13 @@
 #include "io/checkpoint_writer.hpp"
 
 #include "core/atomic_output.hpp"
-#include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
 #include "par/collective.hpp"
 #include "par/hdf5_call.hpp"
-
-#include <unistd.h>
+#include "par/parallel_file.hpp"
+#include "par/positional_checksum.hpp"
 
 #include <algorithm>
 #include <array>
@@ -49,20 +48,12 @@ void verify_blocks_tile(const std::string& name, std::vector<BlockDeclaration> b
                                                          << blocks.front().global_count << ")");
 }
 
-/// Rank 0's pid, on every rank: all ranks write the one temporary file that rank 0 commits.
-long rank0_process_id(const par::Comm& comm) {
-  long id = static_cast<long>(::getpid());
-  MPI_Bcast(&id, 1, MPI_LONG, 0, comm.raw);
-  return id;
-}
-
 } // namespace
 
 CheckpointWriter::CheckpointWriter(const par::Comm& comm, std::filesystem::path directory,
                                    const std::string& config_hash, std::int64_t step, int keep_last)
     : comm_(comm), directory_(std::move(directory)),
-      temporary_path_(
-          temporary_path_of(directory_ / checkpoint_file_name(step), rank0_process_id(comm))),
+      temporary_path_(par::shared_temporary_path(comm, directory_ / checkpoint_file_name(step))),
       step_(step), keep_last_(keep_last) {
   par::run_collectively(comm_, [&] {
     file_ = create_parallel_file(comm_, temporary_path_);
@@ -98,8 +89,8 @@ void CheckpointWriter::write_block(const std::string& name, ScalarType type, con
   par::run_collectively(comm_, [&] { verify_blocks_tile(name, all); });
 
   const std::uint64_t local_checksum =
-      checksum_block(data, local_scalars, scalar_size(type), global_offset * components);
-  const std::uint64_t checksum = checksum_sum_over_ranks(comm_, local_checksum);
+      par::checksum_block(data, local_scalars, scalar_size(type), global_offset * components);
+  const std::uint64_t checksum = par::checksum_sum_over_ranks(comm_, local_checksum);
 
   par::run_collectively(comm_, [&] {
     const auto& file = temporary_path_;

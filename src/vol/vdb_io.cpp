@@ -3,6 +3,7 @@
 #include "core/atomic_output.hpp"
 #include "core/input_file.hpp"
 #include "vol/grid_checks.hpp"
+#include "vol/vdb_grid_description.hpp"
 
 #include <algorithm>
 #include <mutex>
@@ -22,10 +23,25 @@ constexpr const char* kDimsKey = "texsim_dense_dims";
 constexpr const char* kSpacingKey = "texsim_spacing";
 constexpr const char* kOriginKey = "texsim_origin";
 
+} // namespace
+
 void initialize_openvdb() {
   static std::once_flag once;
   std::call_once(once, [] { openvdb::initialize(); });
 }
+
+void describe_dense_grid(openvdb::GridBase& grid, Dims dims, const std::array<double, 3>& spacing,
+                         const std::array<double, 3>& origin, const std::string& grid_name) {
+  const openvdb::Vec3d s(spacing[0], spacing[1], spacing[2]), o(origin[0], origin[1], origin[2]);
+  grid.setName(grid_name);
+  grid.setTransform(std::make_shared<openvdb::math::Transform>(
+      std::make_shared<openvdb::math::ScaleTranslateMap>(s, o)));
+  grid.insertMeta(kDimsKey, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.nx, dims.ny, dims.nz)));
+  grid.insertMeta(kSpacingKey, openvdb::Vec3DMetadata(s));
+  grid.insertMeta(kOriginKey, openvdb::Vec3DMetadata(o));
+}
+
+namespace {
 
 openvdb::Vec3s to_vdb(const img::Rgb& c) {
   return {c.r, c.g, c.b};
@@ -40,19 +56,13 @@ void from_vdb(float v, float& out) {
   out = v;
 }
 
-/// Names `vdb`, gives it the transform and metadata of a dense grid of `dims` voxels, spacing
-/// `s` and origin `o`, and writes it as the only grid of the file at `path`, atomically.
+/// Describes `vdb` as a dense grid of `dims` voxels, spacing `s` and origin `o`, and writes it
+/// as the only grid of the file at `path`, atomically.
 template <class VdbGrid>
 void write_dense_grid_file(const std::filesystem::path& path, VdbGrid& vdb, Dims dims,
                            const std::array<double, 3>& s, const std::array<double, 3>& o,
                            const std::string& grid_name) {
-  vdb.setName(grid_name);
-  vdb.setTransform(
-      std::make_shared<openvdb::math::Transform>(std::make_shared<openvdb::math::ScaleTranslateMap>(
-          openvdb::Vec3d(s[0], s[1], s[2]), openvdb::Vec3d(o[0], o[1], o[2]))));
-  vdb.insertMeta(kDimsKey, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.nx, dims.ny, dims.nz)));
-  vdb.insertMeta(kSpacingKey, openvdb::Vec3DMetadata(openvdb::Vec3d(s[0], s[1], s[2])));
-  vdb.insertMeta(kOriginKey, openvdb::Vec3DMetadata(openvdb::Vec3d(o[0], o[1], o[2])));
+  describe_dense_grid(vdb, dims, s, o, grid_name);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     try {
       openvdb::io::File file(temporary.string());
@@ -64,17 +74,15 @@ void write_dense_grid_file(const std::filesystem::path& path, VdbGrid& vdb, Dims
   });
 }
 
-/// Sets the voxels of `vdb` in planes [z_first, z_first + planes) of a volume `dims` wide to
-/// value_of(v), v counted from the first of those planes, x fastest; voxels equal to the
-/// background stay inactive.
+/// Sets the voxels of `vdb`, a volume of `dims`, to value_of(v), v counted x fastest; voxels
+/// equal to the background stay inactive.
 template <class VdbGrid, class ValueOf>
-void copy_planes(VdbGrid& vdb, Dims dims, int z_first, int planes, const ValueOf& value_of) {
+void copy_voxels(VdbGrid& vdb, Dims dims, const ValueOf& value_of) {
   using ValueT = typename VdbGrid::ValueType;
-  const openvdb::CoordBBox box(openvdb::Coord(0, 0, z_first),
-                               openvdb::Coord(dims.nx - 1, dims.ny - 1, z_first + planes - 1));
+  const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
+                               openvdb::Coord(dims.nx - 1, dims.ny - 1, dims.nz - 1));
   openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(box);
-  const std::size_t count = std::size_t(dims.nx) * std::size_t(dims.ny) * std::size_t(planes);
-  for (std::size_t v = 0; v < count; ++v)
+  for (std::size_t v = 0; v < dims.count(); ++v)
     dense.data()[v] = value_of(v);
   openvdb::tools::copyFromDense(dense, vdb, openvdb::zeroVal<ValueT>());
 }
@@ -86,7 +94,7 @@ void write_grid(const std::filesystem::path& path, Dims dims, const std::array<d
                 const std::string& grid_name) {
   initialize_openvdb();
   auto vdb = VdbGrid::create(openvdb::zeroVal<typename VdbGrid::ValueType>());
-  copy_planes(*vdb, dims, 0, dims.nz, value_of);
+  copy_voxels(*vdb, dims, value_of);
   write_dense_grid_file(path, *vdb, dims, s, o, grid_name);
 }
 
@@ -175,83 +183,6 @@ void write_vdb(const std::filesystem::path& path, const ChannelGrid& grid,
           return openvdb::Vec3s(c[0], c[1], c[2]);
         },
         grid_name);
-}
-
-/// The planes are copied into the tree a leaf's depth at a time, aligned with the leaves, so no
-/// leaf is ever filled from two copies.
-struct VdbPlaneWriter::Tree {
-  static constexpr int kLeafDepth = openvdb::FloatTree::LeafNodeType::DIM;
-
-  Dims dims;
-  int channels;
-  std::string grid_name;
-  openvdb::FloatGrid::Ptr density;
-  openvdb::Vec3SGrid::Ptr colour;
-  std::vector<float> staged; ///< planes [next_plane - staged planes, next_plane)
-  int next_plane = 0;
-
-  std::size_t plane_values() const {
-    return std::size_t(dims.nx) * std::size_t(dims.ny) * std::size_t(channels);
-  }
-
-  void flush() {
-    const int planes = static_cast<int>(staged.size() / plane_values());
-    if (planes == 0)
-      return;
-    const int z_first = next_plane - planes;
-    const float* v = staged.data();
-    if (density)
-      copy_planes(*density, dims, z_first, planes, [&](std::size_t i) { return v[i]; });
-    else
-      copy_planes(*colour, dims, z_first, planes, [&](std::size_t i) {
-        return openvdb::Vec3s(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
-      });
-    staged.clear();
-  }
-};
-
-VdbPlaneWriter::VdbPlaneWriter(Dims dims, int channels, std::string grid_name)
-    : tree_(std::make_unique<Tree>()) {
-  TEXSIM_VERIFY(channels == 1 || channels == 3,
-                "a .vdb grid of " << channels << " channels, expected 1 or 3");
-  initialize_openvdb();
-  tree_->dims = dims;
-  tree_->channels = channels;
-  tree_->grid_name = std::move(grid_name);
-  if (channels == 1)
-    tree_->density = openvdb::FloatGrid::create(0.0f);
-  else
-    tree_->colour = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-}
-
-VdbPlaneWriter::~VdbPlaneWriter() = default;
-
-void VdbPlaneWriter::add_planes(std::span<const float> values) {
-  Tree& t = *tree_;
-  const std::size_t plane = t.plane_values();
-  TEXSIM_VERIFY(values.size() % plane == 0 &&
-                    t.next_plane + static_cast<std::int64_t>(values.size() / plane) <= t.dims.nz,
-                "VdbPlaneWriter: " << values.size() << " values after plane " << t.next_plane
-                                   << " are not whole planes of the " << t.dims.nz
-                                   << "-plane volume");
-  for (std::size_t at = 0; at < values.size(); at += plane) {
-    t.staged.insert(t.staged.end(), values.begin() + static_cast<std::ptrdiff_t>(at),
-                    values.begin() + static_cast<std::ptrdiff_t>(at + plane));
-    if (++t.next_plane % Tree::kLeafDepth == 0)
-      t.flush();
-  }
-}
-
-void VdbPlaneWriter::write(const std::filesystem::path& path) {
-  Tree& t = *tree_;
-  TEXSIM_VERIFY(t.next_plane == t.dims.nz,
-                path.string() << ": " << t.next_plane << " of " << t.dims.nz << " planes added");
-  t.flush();
-  const std::array<double, 3> spacing{1.0, 1.0, 1.0}, origin{0.0, 0.0, 0.0};
-  if (t.density)
-    write_dense_grid_file(path, *t.density, t.dims, spacing, origin, t.grid_name);
-  else
-    write_dense_grid_file(path, *t.colour, t.dims, spacing, origin, t.grid_name);
 }
 
 namespace {

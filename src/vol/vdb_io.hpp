@@ -14,8 +14,6 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <memory>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -32,27 +30,6 @@ void write_vdb(const std::filesystem::path& path, const RgbGrid& grid,
 /// without a copy as a DenseGrid.
 void write_vdb(const std::filesystem::path& path, const ChannelGrid& grid,
                const std::string& grid_name);
-
-/// A .vdb of a dense 1-channel (float grid) or 3-channel (Vec3s grid) volume of spacing 1 and
-/// origin 0, built from its z-planes in order, as write_vdb(ChannelGrid) would write it: the
-/// writer holds the sparse tree and at most one leaf's depth of planes, never a dense copy of the
-/// volume (a volume split into z-slabs over ranks is assembled on one rank as it arrives).
-class VdbPlaneWriter {
-public:
-  VdbPlaneWriter(Dims dims, int channels, std::string grid_name);
-  ~VdbPlaneWriter();
-  VdbPlaneWriter(const VdbPlaneWriter&) = delete;
-  VdbPlaneWriter& operator=(const VdbPlaneWriter&) = delete;
-
-  /// The next whole planes (x fastest, `channels` values per voxel).
-  void add_planes(std::span<const float> values);
-  /// Writes the file as write_vdb does, once every plane has been added.
-  void write(const std::filesystem::path& path);
-
-private:
-  struct Tree;
-  std::unique_ptr<Tree> tree_;
-};
 
 /// Reads the grid called `grid_name` (or, if empty, the first FloatGrid or Vec3SGrid in the file)
 /// into a dense ScalarGrid or RgbGrid. Throws InputError naming the file if it is missing or not a

@@ -2,10 +2,10 @@
 // independent of the split, refusal of corrupt, truncated and foreign checkpoints on every rank,
 // "latest" fallback, pruning and atomic commit.
 #include "core/atomic_output.hpp"
-#include "io/checkpoint_checksum.hpp"
 #include "io/checkpoint_format.hpp"
 #include "io/checkpoint_store.hpp"
 #include "par/comm.hpp"
+#include "par/positional_checksum.hpp"
 #include "support/test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -195,13 +195,13 @@ TEST(CheckpointStore, RoundTripIsBitExactWithADifferentSplit) {
 
 TEST(CheckpointStore, ChecksumDoesNotDependOnTheSplit) {
   const auto values = reference<double>(300);
-  const std::uint64_t whole = checksum_block(values.data(), values.size(), 8, 0);
-  const std::uint64_t split =
-      checksum_block(values.data(), 117, 8, 0) + checksum_block(values.data() + 117, 183, 8, 117);
+  const std::uint64_t whole = par::checksum_block(values.data(), values.size(), 8, 0);
+  const std::uint64_t split = par::checksum_block(values.data(), 117, 8, 0) +
+                              par::checksum_block(values.data() + 117, 183, 8, 117);
   EXPECT_EQ(whole, split);
   auto swapped = values;
   std::swap(swapped[10], swapped[20]);
-  EXPECT_NE(checksum_block(swapped.data(), swapped.size(), 8, 0), whole)
+  EXPECT_NE(par::checksum_block(swapped.data(), swapped.size(), 8, 0), whole)
       << "moving values must change the checksum";
 
   // The same data written by all ranks and by rank 0 alone carries the same checksums.

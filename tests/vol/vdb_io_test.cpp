@@ -55,36 +55,6 @@ TEST(VdbIo, EmptyBoundaryLayersSurviveTheRoundTrip) {
   EXPECT_EQ(std::get<ScalarGrid>(read_vdb(path, "sparse")), grid);
 }
 
-TEST(VdbIo, PlaneWriterWritesWhatTheWholeGridWrites) {
-  // Planes arrive in uneven groups across the 8-plane leaves, with zero (inactive) voxels among
-  // them: the file holds the same voxels and dims as the whole grid's.
-  const auto dir = texsim::test::scratch_dir("vol_vdb_planes");
-  for (const int channels : {1, 3}) {
-    ChannelGrid grid(Dims{9, 5, 21}, channels);
-    for (std::size_t v = 0; v < grid.data().size(); ++v)
-      grid.data()[v] = v % 7 == 0 ? 0.0f : 0.01f * static_cast<float>(v % 97);
-    write_vdb(dir / "whole.vdb", grid, "g");
-    VdbPlaneWriter writer(grid.dims(), channels, "g");
-    const std::size_t plane = 9 * 5 * static_cast<std::size_t>(channels);
-    std::size_t at = 0;
-    for (const int planes : {3, 1, 9, 0, 8}) {
-      writer.add_planes(grid.data().subspan(at, planes * plane));
-      at += planes * plane;
-    }
-    writer.write(dir / "planes.vdb");
-    if (channels == 1)
-      EXPECT_EQ(std::get<ScalarGrid>(read_vdb(dir / "planes.vdb", "g")),
-                std::get<ScalarGrid>(read_vdb(dir / "whole.vdb", "g")));
-    else
-      EXPECT_EQ(std::get<RgbGrid>(read_vdb(dir / "planes.vdb", "g")),
-                std::get<RgbGrid>(read_vdb(dir / "whole.vdb", "g")));
-  }
-  VdbPlaneWriter short_of_planes(Dims{2, 2, 3}, 1, "g");
-  short_of_planes.add_planes(std::vector<float>(4, 1.0f));
-  EXPECT_THROW(short_of_planes.write(dir / "short.vdb"), Error);
-  EXPECT_FALSE(std::filesystem::exists(dir / "short.vdb"));
-}
-
 TEST(VdbIo, ErrorsNameTheFileAndListTheGrids) {
   const auto dir = texsim::test::scratch_dir("vol_vdb_errors");
   const auto missing = dir / "missing.vdb";

@@ -55,13 +55,15 @@ MemoryEstimate synthesis_estimate(const SolidSynthesisSettings& settings, int ra
       std::uint64_t(dims[0]) * std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
   // Per pyramid voxel: coordinates, features and the next level's copy (all levels: x 8/7).
   const std::uint64_t distributed = saturating_multiply(pyramid_voxels, 64) / std::uint64_t(ranks);
-  // On rank 0: the .vdb tree it assembles (12 bytes a colour voxel; the exemplar features are
-  // freed by then).
-  const std::uint64_t gathered = saturating_multiply(result_voxels, 12);
+  // Each rank's coloured planes (12 bytes a colour voxel; the exemplar features are freed by
+  // then), the 7 more that finish its last .vdb leaf layer and the leaf records of 32 planes.
+  const std::uint64_t output = saturating_add(
+      saturating_multiply(result_voxels, 12) / std::uint64_t(ranks),
+      saturating_multiply(std::uint64_t(dims[0]) * std::uint64_t(dims[1]), (7 + 32) * 12));
   const bool cube = dims[0] == dims[1] && dims[1] == dims[2];
   const std::string key =
       std::string("solid_synthesis.synthesis.") + (cube ? "size (or dims)" : "dims");
-  return {saturating_add(distributed, gathered), key,
+  return {saturating_add(distributed, output), key,
           std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
               std::to_string(dims[2]) + " voxels, a " + std::to_string(pyramid_edge) +
               "^3 pyramid divided among " + std::to_string(ranks) + " ranks"};

@@ -245,12 +245,11 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
     log::info(log::cat("quality: neighbourhood error ", error, ", histogram distance ", histogram,
                        ", incoherent voxels ", incoherent));
   }
-  space.levels.clear(); // before rank 0 holds the .vdb tree
-  // Rank 0 alone builds the .vdb, the one serial part of the output; its stages are timed apart
-  // for the scaling model (scripts/bench scale).
+  space.levels.clear(); // before the ranks hold their coloured planes
+  // The output's stages are timed apart for the scaling model (scripts/bench scale).
   for (const auto& path :
-       write_assembled_result(comm, run.output_dir, *slab, settings_.dims, space.colours,
-                              settings_.cross_sections, ctx.timers))
+       write_volume_and_sections(comm, run.output_dir, *slab, settings_.dims, space.colours,
+                                 settings_.cross_sections, ctx.timers))
     report.output(path.string());
   report.metric("cross_section_sets", static_cast<int>(settings_.cross_sections.size()) + 1);
   report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});

@@ -2,16 +2,14 @@
 
 #include "core/error.hpp"
 #include "par/collective.hpp"
-#include "par/gather_to_root.hpp"
 #include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "vol/cross_section_writer.hpp"
+#include "vol/parallel_vdb_writer.hpp"
 #include "vol/parallel_vti_writer.hpp"
-#include "vol/vdb_io.hpp"
 
 #include <mpi.h>
 
 #include <algorithm>
-#include <cstring>
 #include <optional>
 #include <string>
 
@@ -29,8 +27,8 @@ std::vector<vol::CrossSections> empty_sections(const vol::Dims& grid, int channe
   return sections;
 }
 
-/// The rank that writes section set s: not rank 0 while there are others, since rank 0 writes
-/// the .vdb meanwhile.
+/// The rank that writes section set s: spread over the ranks after rank 0, which writes the
+/// .vdb's header and structure.
 int section_writer(const par::Comm& comm, std::size_t s) {
   return comm.size == 1 ? 0 : 1 + static_cast<int>(s % std::size_t(comm.size - 1));
 }
@@ -38,58 +36,33 @@ int section_writer(const par::Comm& comm, std::size_t s) {
 } // namespace
 
 std::vector<std::filesystem::path>
-write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
-                       const CoordinateSlab& slab, const std::array<int, 3>& dims,
-                       const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
-                       StageTimers& timers) {
+write_volume_and_sections(const par::Comm& comm, const std::filesystem::path& dir,
+                          const CoordinateSlab& slab, const std::array<int, 3>& dims,
+                          const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
+                          StageTimers& timers) {
   TEXSIM_VERIFY(dims[0] <= slab.size() && dims[1] <= slab.size() && dims[2] <= slab.size(),
                 "crop box larger than the synthesized level");
   const PlaneRange planes = reported_planes(comm, slab, dims[2]);
   const vol::Dims grid{dims[0], dims[1], dims[2]};
   const int channels = exemplar.channels();
-  std::optional<vol::VdbPlaneWriter> vdb;
-  if (comm.is_root())
-    vdb.emplace(grid, channels, channels == 1 ? "density" : "colour");
 
-  // Every rank colours its own planes and takes their share of every cross section; rank 0 adds
-  // its planes (the lowest) to the .vdb at once and the others keep theirs for it.
+  // Every rank colours its own planes, keeps them for the .vdb and takes their share of every
+  // cross section.
   std::vector<vol::CrossSections> sections = empty_sections(grid, channels, cross_sections);
-  std::vector<float> outgoing;
+  std::vector<float> colours;
   for (int k = planes.begin; k < planes.end; ++k) {
-    vol::ChannelGrid plane;
-    {
-      auto stage = timers.scope("colouring");
-      plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
-      for (vol::CrossSections& s : sections)
-        s.add_planes(k, plane.data());
-    }
-    const std::span<const float> colours = plane.data();
-    if (vdb) {
-      auto stage = timers.scope("assembly");
-      vdb->add_planes(colours);
-    } else {
-      outgoing.insert(outgoing.end(), colours.begin(), colours.end());
-    }
+    auto stage = timers.scope("colouring");
+    const vol::ChannelGrid plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
+    for (vol::CrossSections& s : sections)
+      s.add_planes(k, plane.data());
+    colours.insert(colours.end(), plane.data().begin(), plane.data().end());
   }
   {
-    // Slabs are in z order by rank, so rank order is the volume's order; rank 0 holds the .vdb's
-    // sparse tree and one slab at a time, never a dense copy of the result.
-    auto stage = timers.scope("assembly");
-    const std::size_t plane_values = std::size_t(dims[0]) * std::size_t(dims[1]) * channels;
-    par::stream_to_root(
-        comm, std::as_bytes(std::span<const float>(outgoing)),
-        [&](int rank, std::span<const std::byte> bytes) {
-          if (rank == comm.rank)
-            return;
-          TEXSIM_VERIFY(bytes.size() % (plane_values * sizeof(float)) == 0,
-                        "rank " << rank << " sent " << bytes.size() << " bytes, not whole planes");
-          // A plane at a time: no second copy of the slab on rank 0.
-          std::vector<float> plane(plane_values);
-          for (std::size_t at = 0; at < bytes.size(); at += plane_values * sizeof(float)) {
-            std::memcpy(plane.data(), bytes.data() + at, plane_values * sizeof(float));
-            vdb->add_planes(plane);
-          }
-        });
+    // Every rank writes the leaves of its planes into the one .vdb (the file's bytes do not
+    // depend on the rank count).
+    auto stage = timers.scope("vdb");
+    vol::write_parallel_vdb(comm, dir / "solid_synthesis.vdb", grid, channels, planes.begin,
+                            std::move(colours), channels == 1 ? "density" : "colour");
   }
   {
     // Each pixel comes from the one rank that owns its plane and is 0 elsewhere: the sum is
@@ -105,24 +78,19 @@ write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
                    MPI_FLOAT, MPI_SUM, writer, comm.raw);
       }
     }
+    // A file that cannot be written fails every rank, not its writer alone.
+    par::run_collectively(comm, [&] {
+      for (std::size_t s = 0; s < sections.size(); ++s) {
+        if (section_writer(comm, s) != comm.rank)
+          continue;
+        if (s + 1 < sections.size()) // one set per position, named after it
+          vol::write_cross_sections(
+              dir / "slices", "solid_synthesis_" + std::to_string(cross_sections[s]), sections[s]);
+        else
+          vol::write_comparison(dir / "slices" / "comparison.png", exemplar, sections[s]);
+      }
+    });
   }
-  // A file that cannot be written fails every rank, not its writer alone.
-  par::run_collectively(comm, [&] {
-    if (vdb) {
-      auto stage = timers.scope("assembly");
-      vdb->write(dir / "solid_synthesis.vdb"); // checks that every plane arrived
-    }
-    auto stage = timers.scope("slices");
-    for (std::size_t s = 0; s < sections.size(); ++s) {
-      if (section_writer(comm, s) != comm.rank)
-        continue;
-      if (s + 1 < sections.size()) // one set per position, named after it
-        vol::write_cross_sections(
-            dir / "slices", "solid_synthesis_" + std::to_string(cross_sections[s]), sections[s]);
-      else
-        vol::write_comparison(dir / "slices" / "comparison.png", exemplar, sections[s]);
-    }
-  });
   std::vector<std::filesystem::path> written;
   if (comm.is_root()) {
     written.push_back(dir / "solid_synthesis.vdb");

@@ -1,7 +1,7 @@
 #pragma once
 /// The finished synthesis written out: the exemplar colours that S, cropped to the requested
-/// size, selects, as one .vdb assembled on rank 0 as the slabs arrive, PNG cross-sections, and S
-/// and the colours written in parallel for ParaView.
+/// size, selects, as one .vdb every rank writes its planes into, PNG cross-sections, and S and
+/// the colours written in parallel for ParaView.
 #include "core/stage_timers.hpp"
 #include "pipelines/solid_synthesis/coordinate_slab.hpp"
 #include "vol/channel_grid.hpp"
@@ -13,19 +13,18 @@
 namespace texsim::pipelines::solid_synthesis {
 
 /// Writes <dir>/solid_synthesis.vdb (a Vec3s grid "colour", or a float grid "density" for scalar
-/// exemplars) on rank 0, from every rank's planes of the crop, coloured by their ranks and
-/// arriving in z order (rank 0 holds the .vdb's sparse tree and one slab at a time, never the
-/// whole result); and PNG cross-sections at X = Y = Z = each of `cross_sections` in <dir>/slices
-/// and <dir>/slices/comparison.png (the exemplar's central cross-sections above the result's),
-/// each set taken by every rank from its own planes, summed onto one writer rank and written
-/// there, on the ranks after 0 while rank 0 writes the .vdb. Times its parts as stages
-/// "colouring" (every rank its planes), "assembly" (rank 0: the .vdb) and "slices" (the
-/// PNGs). Collective; returns the paths written (on rank 0; empty elsewhere).
+/// exemplars) from every rank's planes of the crop at once (vol/parallel_vdb_writer.hpp: no rank
+/// holds more than its planes and 7 more); and PNG cross-sections at X = Y = Z = each of
+/// `cross_sections` in <dir>/slices and <dir>/slices/comparison.png (the exemplar's central
+/// cross-sections above the result's), each set taken by every rank from its own planes, summed
+/// onto one writer rank after rank 0 and written there. Times its parts as stages "colouring"
+/// (every rank its planes), "vdb" (every rank its leaves, rank 0 also the tree's structure) and
+/// "slices" (the PNGs). Collective; returns the paths written (on rank 0; empty elsewhere).
 std::vector<std::filesystem::path>
-write_assembled_result(const par::Comm& comm, const std::filesystem::path& dir,
-                       const CoordinateSlab& slab, const std::array<int, 3>& dims,
-                       const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
-                       StageTimers& timers);
+write_volume_and_sections(const par::Comm& comm, const std::filesystem::path& dir,
+                          const CoordinateSlab& slab, const std::array<int, 3>& dims,
+                          const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
+                          StageTimers& timers);
 
 /// Writes the result for ParaView in parallel, every rank its own slab cropped to `dims` (plus
 /// the next slab's first plane, which VTK pieces share): <dir>/solid_synthesis.pvti (the colour or

@@ -1,8 +1,8 @@
-#include "io/checkpoint_checksum.hpp"
+#include "par/positional_checksum.hpp"
 
 #include <cstring>
 
-namespace texsim::io {
+namespace texsim::par {
 namespace {
 
 std::uint64_t splitmix64(std::uint64_t x) {
@@ -32,4 +32,4 @@ std::uint64_t checksum_sum_over_ranks(const par::Comm& comm, std::uint64_t local
   return total;
 }
 
-} // namespace texsim::io
+} // namespace texsim::par

@@ -1,0 +1,195 @@
+#include "vol/parallel_vdb_writer.hpp"
+
+#include "core/error.hpp"
+#include "core/hash.hpp"
+#include "par/collective.hpp"
+#include "par/parallel_file.hpp"
+#include "par/positional_checksum.hpp"
+#include "vol/vdb_dense_layout.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <climits>
+#include <cstddef>
+#include <cstdint>
+
+namespace texsim::vol {
+namespace {
+
+constexpr int kLeafDim = DenseVdbLayout::kLeafDim;
+/// Leaf layers (8 planes each) turned into records and written per collective call.
+constexpr int kLayersPerCall = 4;
+
+int round_up_to_leaf(int z) {
+  return (z + kLeafDim - 1) / kLeafDim * kLeafDim;
+}
+
+/// A version-8 (RFC 9562, content-derived) UUID string from 128 bits of the file's checksum.
+std::string content_uuid(std::uint64_t checksum, std::uint64_t salt) {
+  std::string hex =
+      hex64(checksum) + hex64(par::checksum_block(&checksum, 1, sizeof checksum, salt));
+  hex[12] = '8';
+  hex[16] = "89ab"[std::stoi(hex.substr(16, 1), nullptr, 16) & 3];
+  return hex.substr(0, 8) + "-" + hex.substr(8, 4) + "-" + hex.substr(12, 4) + "-" +
+         hex.substr(16, 4) + "-" + hex.substr(20, 12);
+}
+
+/// Where every rank's planes start and how many it has; checks that they tile [0, nz) in rank
+/// order.
+struct PlaneTiling {
+  std::vector<int> first, count;
+
+  PlaneTiling(const par::Comm& comm, const std::filesystem::path& path, int z_first, int planes,
+              int nz)
+      : first(std::size_t(comm.size)), count(std::size_t(comm.size)) {
+    MPI_Allgather(&z_first, 1, MPI_INT, first.data(), 1, MPI_INT, comm.raw);
+    MPI_Allgather(&planes, 1, MPI_INT, count.data(), 1, MPI_INT, comm.raw);
+    par::run_collectively(comm, [&] {
+      int next = 0;
+      for (std::size_t r = 0; r < first.size(); ++r) {
+        if (count[r] == 0)
+          continue;
+        TEXSIM_VERIFY(first[r] == next, path.string()
+                                            << ": rank " << r << " holds planes from " << first[r]
+                                            << " where plane " << next << " was expected");
+        next += count[r];
+      }
+      TEXSIM_VERIFY(next == nz, path.string()
+                                    << ": the ranks hold " << next << " planes of " << nz);
+    });
+  }
+
+  int owner(int z) const {
+    std::size_t r = 0;
+    while (r < first.size() && !(z >= first[r] && z < first[r] + count[r]))
+      ++r;
+    TEXSIM_VERIFY(r < first.size(), "plane " << z << " has no rank");
+    return static_cast<int>(r);
+  }
+};
+
+} // namespace
+
+void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path, Dims dims,
+                        int channels, int z_first, std::vector<float> planes,
+                        const std::string& grid_name) {
+  const DenseVdbLayout layout(dims, channels);
+  const std::size_t plane_values =
+      std::size_t(dims.nx) * std::size_t(dims.ny) * std::size_t(channels);
+  TEXSIM_VERIFY(plane_values <= std::size_t(INT_MAX) && planes.size() % plane_values == 0,
+                path.string() << ": " << planes.size() << " values are not whole planes of "
+                              << plane_values);
+  const int held = static_cast<int>(planes.size() / plane_values);
+  const PlaneTiling tiling(comm, path, held > 0 ? z_first : 0, held, dims.nz);
+
+  // The planes before this rank's first leaf boundary finish a leaf layer a lower rank starts;
+  // the planes after its last one come from the ranks above.
+  std::vector<int> send(std::size_t(comm.size), 0), receive(std::size_t(comm.size), 0);
+  std::vector<int> send_at(std::size_t(comm.size), 0), receive_at(std::size_t(comm.size), 0);
+  const int leading = held == 0 ? 0 : std::min(held, round_up_to_leaf(z_first) - z_first);
+  if (leading > 0)
+    send[std::size_t(tiling.owner(z_first / kLeafDim * kLeafDim))] = leading;
+  const int owned_first = z_first + leading, held_end = z_first + held;
+  int tail = 0;
+  if (held > leading) { // this rank starts at least one layer
+    const int last_layer_end = std::min(dims.nz, (held_end - 1) / kLeafDim * kLeafDim + kLeafDim);
+    for (int z = held_end; z < last_layer_end; ++z) {
+      const auto from = std::size_t(tiling.owner(z));
+      if (receive[from] == 0)
+        receive_at[from] = tail;
+      ++receive[from];
+      ++tail;
+    }
+  }
+  MPI_Datatype plane_type = MPI_DATATYPE_NULL;
+  MPI_Type_contiguous(static_cast<int>(plane_values), MPI_FLOAT, &plane_type);
+  MPI_Type_commit(&plane_type);
+  std::vector<float> tail_planes(std::size_t(tail) * plane_values);
+  MPI_Alltoallv(planes.data(), send.data(), send_at.data(), plane_type, tail_planes.data(),
+                receive.data(), receive_at.data(), plane_type, comm.raw);
+  MPI_Type_free(&plane_type);
+  planes.erase(planes.begin(),
+               planes.begin() + std::ptrdiff_t(std::size_t(leading) * plane_values));
+  planes.insert(planes.end(), tail_planes.begin(), tail_planes.end());
+  tail_planes = {};
+  const int owned_planes = static_cast<int>(planes.size() / plane_values);
+  const int first_layer = owned_first / kLeafDim;
+  const int layers = owned_planes == 0 ? 0 : (owned_planes + kLeafDim - 1) / kLeafDim;
+
+  // Rank 0 knows the head's size (the UUID comes last but has a fixed length).
+  std::uint64_t head_bytes =
+      comm.is_root() ? layout.head(grid_name, std::string(36, '0')).size() : 0;
+  MPI_Bcast(&head_bytes, 1, MPI_UINT64_T, 0, comm.raw);
+  const std::uint64_t leaves_at = head_bytes + layout.topology_bytes();
+  const std::size_t record_bytes = layout.leaf_record_bytes();
+  const std::size_t leaf_values =
+      std::size_t(kLeafDim * kLeafDim * kLeafDim) * std::size_t(channels);
+  const std::size_t values_at = record_bytes - leaf_values * sizeof(float);
+
+  par::ParallelFile file(comm, path);
+  int calls = (layers + kLayersPerCall - 1) / kLayersPerCall;
+  MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_INT, MPI_MAX, comm.raw);
+  const auto [bx_count, by_count, bz_count] = layout.leaf_blocks();
+  std::uint64_t checksum = 0;
+  for (int call = 0; call < calls; ++call) {
+    // This call's leaves in file order, so neighbours in the file merge into one run.
+    struct Leaf {
+      std::int64_t order;
+      std::array<int, 3> block;
+    };
+    std::vector<Leaf> leaves;
+    for (int layer = call * kLayersPerCall; layer < std::min(layers, (call + 1) * kLayersPerCall);
+         ++layer)
+      for (int bx = 0; bx < bx_count; ++bx)
+        for (int by = 0; by < by_count; ++by) {
+          const std::array<int, 3> block{bx, by, first_layer + layer};
+          leaves.push_back({layout.leaf_order(block), block});
+        }
+    std::sort(leaves.begin(), leaves.end(),
+              [](const Leaf& a, const Leaf& b) { return a.order < b.order; });
+    std::vector<std::byte> records(leaves.size() * record_bytes);
+    std::uint64_t call_checksum = 0;
+#pragma omp parallel for reduction(+ : call_checksum) schedule(static)
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+      const Leaf& leaf = leaves[i];
+      const int z0 = leaf.block[2] * kLeafDim;
+      const int depth = std::min(kLeafDim, dims.nz - z0);
+      const std::span<const float> layer(planes.data() +
+                                             std::size_t(z0 - owned_first) * plane_values,
+                                         std::size_t(depth) * plane_values);
+      const std::span<std::byte> record(records.data() + i * record_bytes, record_bytes);
+      layout.write_leaf_record(record, leaf.block, layer);
+      call_checksum += par::checksum_block(record.data() + values_at, leaf_values, sizeof(float),
+                                           std::uint64_t(leaf.order) * leaf_values);
+    }
+    checksum += call_checksum;
+    std::vector<par::ByteRun> runs;
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+      const std::span<const std::byte> bytes(records.data() + i * record_bytes, record_bytes);
+      if (i > 0 && leaves[i].order == leaves[i - 1].order + 1)
+        runs.back().bytes = {runs.back().bytes.data(), runs.back().bytes.size() + record_bytes};
+      else
+        runs.push_back({leaves_at + std::uint64_t(leaves[i].order) * record_bytes, bytes});
+    }
+    file.write_runs(runs);
+  }
+  checksum = par::checksum_sum_over_ranks(comm, checksum);
+  par::run_collectively(comm, [&] {
+    if (!comm.is_root())
+      return;
+    const std::string head = layout.head(grid_name, content_uuid(checksum, dims.count()));
+    TEXSIM_VERIFY(head.size() == head_bytes, path.string() << ": the head changed size");
+    file.write_at(0, std::as_bytes(std::span(head)));
+    std::uint64_t at = head.size();
+    layout.write_topology([&](std::string_view bytes) {
+      file.write_at(at, std::as_bytes(std::span(bytes)));
+      at += bytes.size();
+    });
+    TEXSIM_VERIFY(at == leaves_at, path.string() << ": topology of " << at - head.size()
+                                                 << " bytes, expected " << layout.topology_bytes());
+  });
+  file.commit();
+}
+
+} // namespace texsim::vol
