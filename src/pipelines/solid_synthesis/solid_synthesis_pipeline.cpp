@@ -107,6 +107,9 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       if (!settings_.cache_dir.empty())
         save_appearance_space(comm, cache_file, key, space);
     }
+    // The Gaussian stack's colours were for the features and the cache; synthesis reads the
+    // features (22 MB a rank less for a 64^3 colour exemplar).
+    space.stack.clear();
     log::info(log::cat("appearance space: ", from_cache ? "read from the cache" : "computed"));
     nlohmann::json retained = nlohmann::json::array();
     for (const auto& level : space.levels)
@@ -207,7 +210,6 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   // The outputs read the exemplar colours and the finest features only.
   synthesizer.reset();
   sets.clear();
-  space.stack.clear();
   space.levels.resize(1);
   {
     auto stage = ctx.timers.scope("output");
