@@ -13,6 +13,7 @@
 #include "par/record_exchange.hpp"
 #include "pipelines/fem_rd/frame_writer.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
+#include "pipelines/fem_rd/pattern_orientation.hpp"
 #include "pipelines/fem_rd/pattern_regions.hpp"
 #include "pipelines/fem_rd/state_checkpoint.hpp"
 
@@ -39,6 +40,16 @@ SurfaceMeasures measure(const geom::DistributedMesh& mesh) {
 void FemRdPipeline::configure(const ConfigSection& section, const RunSettings& run) {
   settings_ = read_fem_rd_settings(section);
   model_ = rd::make_reaction_model(section.section("model"), run.seed);
+  if (settings_.diffusion) {
+    const auto unknown = DiffusionField(*settings_.diffusion).unknown_species(model_->species());
+    if (!unknown.empty()) {
+      std::string known;
+      for (const auto& name : model_->species())
+        known += (known.empty() ? "" : ", ") + name;
+      TEXSIM_INPUT_ERROR("fem_rd.diffusion.species: the model has no species '"
+                         << unknown.front() << "', expected some of " << known);
+    }
+  }
 }
 
 void FemRdPipeline::run(RunContext& ctx) {
@@ -97,7 +108,8 @@ void FemRdPipeline::run(RunContext& ctx) {
   std::unique_ptr<io::PvdSeries> series;
   {
     auto stage = ctx.timers.scope("setup");
-    solver_owner = std::make_unique<ReactionDiffusionSolver>(comm, *mesh, *model_, settings_.rd);
+    solver_owner = std::make_unique<ReactionDiffusionSolver>(comm, *mesh, *model_, settings_.rd,
+                                                             settings_.diffusion);
     if (settings_.smoothing)
       smoother = std::make_unique<GeometrySmoother>(comm, *mesh, settings_.smoother);
     for (std::size_t s = 0; s < solver_owner->species_count(); ++s)
@@ -184,6 +196,14 @@ void FemRdPipeline::run(RunContext& ctx) {
                                           {"regions_above_mean", regions.regions},
                                           {"min", range.min},
                                           {"max", range.max}};
+    if (settings_.diffusion) {
+      const DiffusionField field(*settings_.diffusion);
+      const StripeOrientation orientation =
+          stripe_orientation(*mesh, solver.local_values(s), field);
+      species[solver.species_names()[s]]["stripes"] = {
+          {"angle_to_field_deg", orientation.angle_to_field_deg},
+          {"coherence", orientation.coherence}};
+    }
   }
   report.metric("species", species);
   report.metric("steps", settings_.steps);

@@ -13,6 +13,7 @@ struct FemRdSettings {
   geom::PartitionMethod partition = geom::PartitionMethod::kScotch; ///< fem_rd.partition
   int steps = 1000;                                                 ///< fem_rd.time.steps
   RdOptions rd; ///< fem_rd.time.dt, fem_rd.mass, fem_rd.solver.{rtol, preconditioner}
+  std::optional<DiffusionFieldSettings> diffusion; ///< fem_rd.diffusion
   bool smoothing = false;
   bool smooth_functions = false; ///< fem_rd.smoothing.functions: also smooth every species    ///<
                                  ///< fem_rd.smoothing.enabled

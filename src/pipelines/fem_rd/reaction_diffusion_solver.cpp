@@ -4,6 +4,7 @@
 #include "core/log.hpp"
 #include "core/rng.hpp"
 #include "geom/distributed_measures.hpp"
+#include "par/collective.hpp"
 #include "par/petsc_session.hpp"
 
 #include <algorithm>
@@ -19,9 +20,12 @@ constexpr std::uint32_t kProbeStream = 0x7e57;
 ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                  const geom::DistributedMesh& mesh,
                                                  const rd::ReactionModel& model,
-                                                 const RdOptions& options)
+                                                 const RdOptions& options,
+                                                 const std::optional<DiffusionFieldSettings>& field)
     : comm_(comm), mesh_(mesh), model_(model), options_(options), assembler_(mesh),
       names_(model.species()) {
+  if (field)
+    field_ = std::make_unique<DiffusionField>(*field);
   mass_ = assembler_.create_matrix(comm);
   for (std::size_t s = 0; s < names_.size(); ++s) {
     fields_.push_back(
@@ -64,10 +68,12 @@ std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
 }
 
 std::vector<double> ReactionDiffusionSolver::system_values(std::span<const double> weight,
-                                                           double diffusion) const {
+                                                           std::size_t s) const {
   std::vector<double> values = assembler_.mass_values(weight, options_.lumped_mass);
+  const std::vector<double>& stiffness =
+      field_ && field_->applies_to(names_[s]) ? field_stiffness_ : stiffness_;
   for (std::size_t k = 0; k < values.size(); ++k)
-    values[k] += options_.dt * diffusion * stiffness_[k];
+    values[k] += options_.dt * diffusion_[s] * stiffness[k];
   return values;
 }
 
@@ -88,7 +94,7 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
   const auto fastest =
       std::size_t(std::max_element(diffusion_.begin(), diffusion_.end()) - diffusion_.begin());
   par::PetscMat probe = assembler_.create_matrix(comm_);
-  assembler_.set_values(probe, system_values({}, diffusion_[fastest]));
+  assembler_.set_values(probe, system_values({}, fastest));
   par::PetscVec x;
   TEXSIM_PETSC_CALL(VecDuplicate(rhs_, x.address()));
   const CounterRng rng(0, kProbeStream);
@@ -115,7 +121,7 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
 
 void ReactionDiffusionSolver::assemble_preconditioners() {
   for (std::size_t s = 0; s < preconditioning_.size(); ++s)
-    assembler_.set_values(preconditioning_[s], system_values({}, diffusion_[s]));
+    assembler_.set_values(preconditioning_[s], system_values({}, s));
 }
 
 void ReactionDiffusionSolver::record_step_iterations(long long iterations) {
@@ -166,6 +172,11 @@ void ReactionDiffusionSolver::rebuild_geometry() {
   assembler_.update_geometry();
   assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
   stiffness_ = assembler_.stiffness_values({});
+  if (field_) {
+    std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
+    par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh()); });
+    field_stiffness_ = assembler_.stiffness_values(tensors);
+  }
   mean_edge_length_ = geom::mean_edge_length(mesh_);
   if (!preconditioning_.empty())
     assemble_preconditioners();
@@ -188,7 +199,7 @@ void ReactionDiffusionSolver::step(double t) {
     const auto& c = coefficients_[s];
     for (std::size_t v = 0; v < weight.size(); ++v)
       weight[v] = 1.0 - dt * std::min(c.linear[v], 0.0);
-    assembler_.set_values(systems_[s], system_values(weight, c.diffusion));
+    assembler_.set_values(systems_[s], system_values(weight, s));
 
     // Right-hand side M (u^n + tau C3): the P1 interpolant of C3 integrates exactly.
     double* explicit_values = nullptr;

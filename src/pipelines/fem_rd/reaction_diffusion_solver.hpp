@@ -18,6 +18,7 @@
 #include "geom/distributed_mesh.hpp"
 #include "par/cg_solver.hpp"
 #include "par/ghosted_vector.hpp"
+#include "pipelines/fem_rd/diffusion_field.hpp"
 #include "pipelines/fem_rd/p1_assembler.hpp"
 #include "rd/reaction_model.hpp"
 
@@ -41,9 +42,11 @@ struct RdOptions {
 
 class ReactionDiffusionSolver {
 public:
-  /// Sets every species to the model's initial state. Collective.
+  /// Sets every species to the model's initial state; `field` (fem_rd.diffusion) turns C0C1
+  /// into a tensor for the species it names, none keeps every rate constant. Collective.
   ReactionDiffusionSolver(const par::Comm& comm, const geom::DistributedMesh& mesh,
-                          const rd::ReactionModel& model, const RdOptions& options);
+                          const rd::ReactionModel& model, const RdOptions& options,
+                          const std::optional<DiffusionFieldSettings>& field = std::nullopt);
 
   /// Recomputes mass and stiffness after the mesh moved. Collective.
   void rebuild_geometry();
@@ -76,8 +79,9 @@ public:
 private:
   void refresh_vertex_data();
   void clamp_to_lower_bound(std::size_t s);
-  /// Pattern-ordered values of M_w + tau D K (unit weight when `weight` is empty).
-  std::vector<double> system_values(std::span<const double> weight, double diffusion) const;
+  /// Pattern-ordered values of M_w + tau D K_s (unit weight when `weight` is empty), K_s the
+  /// stiffness of species s: with fem_rd.diffusion's tensors if they apply to it.
+  std::vector<double> system_values(std::span<const double> weight, std::size_t s) const;
   /// The diffusion rate of each species (constant per species), from one model evaluation.
   std::vector<double> species_diffusion() const;
   /// Applies options_.preconditioner; for kAuto runs the Jacobi probe. Collective.
@@ -98,6 +102,8 @@ private:
   std::vector<par::PetscMat> systems_; ///< M_w + tau C0C1 K, one per species
   par::PetscMat mass_;                 ///< M (unit weight)
   std::vector<double> stiffness_;      ///< K in pattern order
+  std::unique_ptr<DiffusionField> field_;
+  std::vector<double> field_stiffness_; ///< K with fem_rd.diffusion's tensors, pattern order
   par::PetscVec rhs_, explicit_part_, ones_;
   std::vector<std::int64_t> local_ids_; ///< input-mesh id of each local vertex
   std::vector<double> local_xyz_;       ///< position of each local vertex

@@ -1,0 +1,59 @@
+#pragma once
+/// Diffusion that varies over the surface and with direction (fem_rd.diffusion): the constant
+/// rate C0C1 of a species in eq. (2) becomes the tensor
+///     D(x) = C0C1 * scale(x) * (across * I + (along - across) t t^T),
+/// where t is a user direction field projected onto the tangent plane at x and normalised:
+/// patterns stretch along t where along > across (the pattern of isotropic diffusion seen in
+/// coordinates squeezed by sqrt(along / across) along t), so stripes follow t. `scale` makes
+/// the rate vary with position. Where the field is normal to the surface (or zero) t is
+/// undefined and the tensor is isotropic with the mean rate (along + across) / 2.
+///
+/// The tensor depends on the geometry only, so K is assembled once per mesh rebuild; a
+/// dependence on the species' values (which would need K every step) is not offered.
+#include "core/config.hpp"
+#include "geom/point_expression.hpp"
+#include "geom/triangle_mesh.hpp"
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace texsim::pipelines::fem_rd {
+
+struct DiffusionFieldSettings {
+  std::array<std::string, 3> direction{"0", "0", "0"}; ///< fem_rd.diffusion.direction
+  double along = 1.0;                                  ///< fem_rd.diffusion.along
+  double across = 1.0;                                 ///< fem_rd.diffusion.across
+  std::string scale = "1";                             ///< fem_rd.diffusion.scale
+  std::vector<std::string> species;                    ///< empty: every species
+};
+
+/// The section fem_rd.diffusion, or nothing when it is absent. InputError naming the key for a
+/// direction that is not 3 expressions, rates that are not positive or an unparsable formula.
+std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd);
+
+class DiffusionField {
+public:
+  explicit DiffusionField(const DiffusionFieldSettings& settings);
+
+  /// Whether the tensor applies to species `name`.
+  bool applies_to(const std::string& name) const;
+  /// The species names the settings list that `species` lacks (empty when all are known).
+  std::vector<std::string> unknown_species(const std::vector<std::string>& species) const;
+
+  /// The unit direction t at every vertex of `mesh`: the field projected onto the tangent plane
+  /// (the vertex normal's), zero where that leaves nothing.
+  std::vector<geom::Vec3> tangent_directions(const geom::TriangleMesh& mesh) const;
+  /// D(x) / C0C1 at every vertex of `mesh` (9 values each, row-major). InputError naming
+  /// fem_rd.diffusion.scale where the scale is not positive and finite.
+  std::vector<double> tensors(const geom::TriangleMesh& mesh) const;
+
+private:
+  DiffusionFieldSettings settings_;
+  std::array<std::unique_ptr<geom::PointExpression>, 3> direction_;
+  std::unique_ptr<geom::PointExpression> scale_;
+};
+
+} // namespace texsim::pipelines::fem_rd
