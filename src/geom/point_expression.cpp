@@ -42,6 +42,11 @@ void PointExpression::bind(std::size_t cells) const {
   }
 }
 
+bool PointExpression::uses(const std::string& name) const {
+  const auto& used = parser_->GetUsedVar();
+  return used.find(name) != used.end();
+}
+
 std::vector<double>
 PointExpression::evaluate(std::span<const double> xyz,
                           const std::vector<std::span<const double>>& columns) const {

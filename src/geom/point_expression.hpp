@@ -30,6 +30,8 @@ public:
                                const std::vector<std::span<const double>>& columns) const;
 
   const std::string& text() const { return text_; }
+  /// Whether the formula reads the variable `name`.
+  bool uses(const std::string& name) const;
 
 private:
   std::string text_;

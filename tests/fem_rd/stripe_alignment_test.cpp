@@ -26,7 +26,8 @@ StripeOrientation grown(const std::array<std::string, 3>& direction, double alon
                                  DiffusionFieldSettings{direction, along, 1.0, "1", {}});
   for (int n = 0; n < kSteps; ++n)
     solver.step(n);
-  return stripe_orientation(mesh, solver.local_values(0), DiffusionField(measured_against));
+  return stripe_orientation(mesh, solver.local_values(0),
+                            DiffusionField(measured_against, model->species()));
 }
 
 TEST(StripeAlignment, PatternsRunAlongTheFasterDirection) {

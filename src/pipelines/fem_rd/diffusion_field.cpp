@@ -23,8 +23,7 @@ std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& 
     return std::nullopt;
   const ConfigSection section = fem_rd.section("diffusion");
   DiffusionFieldSettings settings;
-  const auto direction =
-      section.get<std::vector<std::string>>("direction", {"0", "0", "0"});
+  const auto direction = section.get<std::vector<std::string>>("direction", {"0", "0", "0"});
   if (direction.size() != 3)
     section.fail("direction", "3 expressions of x, y, z (the field's components)");
   std::copy(direction.begin(), direction.end(), settings.direction.begin());
@@ -32,32 +31,33 @@ std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& 
   settings.across = section.get<double>("across", settings.across, positive());
   settings.scale = section.get<std::string>("scale", settings.scale);
   settings.species = section.get<std::vector<std::string>>("species", {});
-  (void)DiffusionField(settings); // parses every formula: errors come before the run
   return settings;
 }
 
-DiffusionField::DiffusionField(const DiffusionFieldSettings& settings) : settings_(settings) {
+DiffusionField::DiffusionField(const DiffusionFieldSettings& settings,
+                               const std::vector<std::string>& species)
+    : settings_(settings) {
+  for (const auto& name : settings.species)
+    if (std::find(species.begin(), species.end(), name) == species.end()) {
+      std::string known;
+      for (const auto& s : species)
+        known += (known.empty() ? "" : ", ") + s;
+      TEXSIM_INPUT_ERROR(kSection << ".species: the model has no species '" << name
+                                  << "', expected some of " << known);
+    }
   for (std::size_t c = 0; c < 3; ++c)
     direction_[c] = std::make_unique<geom::PointExpression>(
         settings.direction[c], std::vector<std::string>{},
         std::string(kSection) + ".direction[" + std::to_string(c) + "]");
-  scale_ = std::make_unique<geom::PointExpression>(settings.scale, std::vector<std::string>{},
+  scale_ = std::make_unique<geom::PointExpression>(settings.scale, species,
                                                    std::string(kSection) + ".scale");
+  depends_on_species_ = std::any_of(species.begin(), species.end(),
+                                    [&](const std::string& name) { return scale_->uses(name); });
 }
 
 bool DiffusionField::applies_to(const std::string& name) const {
-  return settings_.species.empty() ||
-         std::find(settings_.species.begin(), settings_.species.end(), name) !=
-             settings_.species.end();
-}
-
-std::vector<std::string>
-DiffusionField::unknown_species(const std::vector<std::string>& species) const {
-  std::vector<std::string> unknown;
-  for (const auto& name : settings_.species)
-    if (std::find(species.begin(), species.end(), name) == species.end())
-      unknown.push_back(name);
-  return unknown;
+  return settings_.species.empty() || std::find(settings_.species.begin(), settings_.species.end(),
+                                                name) != settings_.species.end();
 }
 
 namespace {
@@ -86,12 +86,15 @@ std::vector<geom::Vec3> DiffusionField::tangent_directions(const geom::TriangleM
   return directions;
 }
 
-std::vector<double> DiffusionField::tensors(const geom::TriangleMesh& mesh) const {
-  const std::vector<double> xyz = coordinates(mesh);
-  const std::vector<double> scale = scale_->evaluate(xyz, {});
+std::vector<double>
+DiffusionField::tensors(const geom::TriangleMesh& mesh, std::size_t count,
+                        const std::vector<std::span<const double>>& species) const {
+  std::vector<double> xyz = coordinates(mesh);
+  xyz.resize(3 * count);
+  const std::vector<double> scale = scale_->evaluate(xyz, species);
   const auto directions = tangent_directions(mesh);
-  std::vector<double> tensors(9 * directions.size());
-  for (std::size_t i = 0; i < directions.size(); ++i) {
+  std::vector<double> tensors(9 * directions.size(), 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
     if (!(std::isfinite(scale[i]) && scale[i] > 0))
       TEXSIM_INPUT_ERROR(kSection << ".scale: expected a positive rate factor everywhere, got "
                                   << scale[i] << " at (" << xyz[3 * i] << ", " << xyz[3 * i + 1]

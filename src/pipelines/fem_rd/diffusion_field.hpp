@@ -5,11 +5,12 @@
 /// where t is a user direction field projected onto the tangent plane at x and normalised:
 /// patterns stretch along t where along > across (the pattern of isotropic diffusion seen in
 /// coordinates squeezed by sqrt(along / across) along t), so stripes follow t. `scale` makes
-/// the rate vary with position. Where the field is normal to the surface (or zero) t is
-/// undefined and the tensor is isotropic with the mean rate (along + across) / 2.
+/// the rate vary with position and, when it reads a species' name, with the pattern. Where the
+/// field is normal to the surface (or zero) t is undefined and the tensor is isotropic with the
+/// mean rate (along + across) / 2.
 ///
-/// The tensor depends on the geometry only, so K is assembled once per mesh rebuild; a
-/// dependence on the species' values (which would need K every step) is not offered.
+/// A tensor of the geometry only is assembled into K once per mesh rebuild; one that reads the
+/// species is assembled every step from u^n (ReactionDiffusionSolver).
 #include "core/config.hpp"
 #include "geom/point_expression.hpp"
 #include "geom/triangle_mesh.hpp"
@@ -17,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,27 +33,32 @@ struct DiffusionFieldSettings {
 };
 
 /// The section fem_rd.diffusion, or nothing when it is absent. InputError naming the key for a
-/// direction that is not 3 expressions, rates that are not positive or an unparsable formula.
+/// direction that is not 3 expressions or rates that are not positive.
 std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd);
 
 class DiffusionField {
 public:
-  explicit DiffusionField(const DiffusionFieldSettings& settings);
+  /// The field of a model whose species are `species` (the scale may read their values).
+  /// InputError naming the key for an unparsable formula or a listed species the model lacks.
+  DiffusionField(const DiffusionFieldSettings& settings, const std::vector<std::string>& species);
 
   /// Whether the tensor applies to species `name`.
   bool applies_to(const std::string& name) const;
-  /// The species names the settings list that `species` lacks (empty when all are known).
-  std::vector<std::string> unknown_species(const std::vector<std::string>& species) const;
+  /// Whether the scale reads a species' values: then the tensors change every step.
+  bool depends_on_species() const { return depends_on_species_; }
 
   /// The unit direction t at every vertex of `mesh`: the field projected onto the tangent plane
   /// (the vertex normal's), zero where that leaves nothing.
   std::vector<geom::Vec3> tangent_directions(const geom::TriangleMesh& mesh) const;
-  /// D(x) / C0C1 at every vertex of `mesh` (9 values each, row-major). InputError naming
+  /// D(x) / C0C1 at the first `count` vertices of `mesh` (9 values each, row-major; zeros for
+  /// the vertices after them), `species[k]` the values of species k there. InputError naming
   /// fem_rd.diffusion.scale where the scale is not positive and finite.
-  std::vector<double> tensors(const geom::TriangleMesh& mesh) const;
+  std::vector<double> tensors(const geom::TriangleMesh& mesh, std::size_t count,
+                              const std::vector<std::span<const double>>& species) const;
 
 private:
   DiffusionFieldSettings settings_;
+  bool depends_on_species_ = false;
   std::array<std::unique_ptr<geom::PointExpression>, 3> direction_;
   std::unique_ptr<geom::PointExpression> scale_;
 };

@@ -33,7 +33,8 @@ StripeOrientation stripe_orientation(const geom::DistributedMesh& mesh,
     // The P1 gradient: sum over corners of u_i (n x opposite edge) / (2 area).
     geom::Vec3 gradient = geom::Vec3::Zero();
     for (int c = 0; c < 3; ++c) {
-      const geom::Vec3 edge = surface.positions[tri[(c + 2) % 3]] - surface.positions[tri[(c + 1) % 3]];
+      const geom::Vec3 edge =
+          surface.positions[tri[(c + 2) % 3]] - surface.positions[tri[(c + 1) % 3]];
       gradient += values[std::size_t(tri[c])] * n.cross(edge);
     }
     gradient /= doubled_area;

@@ -25,7 +25,7 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
     : comm_(comm), mesh_(mesh), model_(model), options_(options), assembler_(mesh),
       names_(model.species()) {
   if (field)
-    field_ = std::make_unique<DiffusionField>(*field);
+    field_ = std::make_unique<DiffusionField>(*field, names_);
   mass_ = assembler_.create_matrix(comm);
   for (std::size_t s = 0; s < names_.size(); ++s) {
     fields_.push_back(
@@ -43,6 +43,8 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                                << names_.size() << " species");
   for (std::size_t s = 0; s < names_.size(); ++s)
     fields_[s]->set_owned(std::span(initial[s]).first(mesh.owned_count()));
+  if (field_ && field_->depends_on_species())
+    assemble_field_stiffness();
 
   diffusion_ = species_diffusion();
   preconditioner_ = choose_preconditioner();
@@ -172,17 +174,26 @@ void ReactionDiffusionSolver::rebuild_geometry() {
   assembler_.update_geometry();
   assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
   stiffness_ = assembler_.stiffness_values({});
-  if (field_) {
-    std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
-    par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh()); });
-    field_stiffness_ = assembler_.stiffness_values(tensors);
-  }
+  if (field_ && !field_->depends_on_species())
+    assemble_field_stiffness();
   mean_edge_length_ = geom::mean_edge_length(mesh_);
   if (!preconditioning_.empty())
     assemble_preconditioners();
 }
 
+void ReactionDiffusionSolver::assemble_field_stiffness() {
+  std::vector<std::span<const double>> state;
+  for (const auto& field : fields_)
+    state.push_back(field->local());
+  const std::size_t count = std::size_t(mesh_.owned_count()) + mesh_.ghosts().size();
+  std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
+  par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh(), count, state); });
+  field_stiffness_ = assembler_.stiffness_values(tensors);
+}
+
 void ReactionDiffusionSolver::step(double t) {
+  if (field_ && field_->depends_on_species()) // the rates of u^n, as C2 and C3 are
+    assemble_field_stiffness();
   std::vector<std::span<const double>> state;
   for (const auto& field : fields_)
     state.push_back(field->local());

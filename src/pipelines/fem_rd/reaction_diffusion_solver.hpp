@@ -78,6 +78,8 @@ public:
 
 private:
   void refresh_vertex_data();
+  /// K with fem_rd.diffusion's tensors at the current geometry and state. Collective.
+  void assemble_field_stiffness();
   void clamp_to_lower_bound(std::size_t s);
   /// Pattern-ordered values of M_w + tau D K_s (unit weight when `weight` is empty), K_s the
   /// stiffness of species s: with fem_rd.diffusion's tensors if they apply to it.
