@@ -43,8 +43,6 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                                << names_.size() << " species");
   for (std::size_t s = 0; s < names_.size(); ++s)
     fields_[s]->set_owned(std::span(initial[s]).first(mesh.owned_count()));
-  if (field_ && field_->depends_on_species())
-    assemble_field_stiffness();
 
   diffusion_ = species_diffusion();
   preconditioner_ = choose_preconditioner();
@@ -70,10 +68,12 @@ std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
 }
 
 std::vector<double> ReactionDiffusionSolver::system_values(std::span<const double> weight,
-                                                           std::size_t s) const {
+                                                           std::size_t s,
+                                                           bool geometry_only) const {
   std::vector<double> values = assembler_.mass_values(weight, options_.lumped_mass);
-  const std::vector<double>& stiffness =
-      field_ && field_->applies_to(names_[s]) ? field_stiffness_ : stiffness_;
+  const bool tensor =
+      field_ && field_->applies_to(names_[s]) && !(geometry_only && field_->depends_on_species());
+  const std::vector<double>& stiffness = tensor ? field_stiffness_ : stiffness_;
   for (std::size_t k = 0; k < values.size(); ++k)
     values[k] += options_.dt * diffusion_[s] * stiffness[k];
   return values;
@@ -96,7 +96,7 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
   const auto fastest =
       std::size_t(std::max_element(diffusion_.begin(), diffusion_.end()) - diffusion_.begin());
   par::PetscMat probe = assembler_.create_matrix(comm_);
-  assembler_.set_values(probe, system_values({}, fastest));
+  assembler_.set_values(probe, system_values({}, fastest, true));
   par::PetscVec x;
   TEXSIM_PETSC_CALL(VecDuplicate(rhs_, x.address()));
   const CounterRng rng(0, kProbeStream);
@@ -123,7 +123,7 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
 
 void ReactionDiffusionSolver::assemble_preconditioners() {
   for (std::size_t s = 0; s < preconditioning_.size(); ++s)
-    assembler_.set_values(preconditioning_[s], system_values({}, s));
+    assembler_.set_values(preconditioning_[s], system_values({}, s, true));
 }
 
 void ReactionDiffusionSolver::record_step_iterations(long long iterations) {
@@ -210,7 +210,7 @@ void ReactionDiffusionSolver::step(double t) {
     const auto& c = coefficients_[s];
     for (std::size_t v = 0; v < weight.size(); ++v)
       weight[v] = 1.0 - dt * std::min(c.linear[v], 0.0);
-    assembler_.set_values(systems_[s], system_values(weight, s));
+    assembler_.set_values(systems_[s], system_values(weight, s, false));
 
     // Right-hand side M (u^n + tau C3): the P1 interpolant of C3 integrates exactly.
     double* explicit_values = nullptr;

@@ -82,8 +82,11 @@ private:
   void assemble_field_stiffness();
   void clamp_to_lower_bound(std::size_t s);
   /// Pattern-ordered values of M_w + tau D K_s (unit weight when `weight` is empty), K_s the
-  /// stiffness of species s: with fem_rd.diffusion's tensors if they apply to it.
-  std::vector<double> system_values(std::span<const double> weight, std::size_t s) const;
+  /// stiffness of species s: with fem_rd.diffusion's tensors if they apply to it, except, when
+  /// `geometry_only`, tensors that read the species (the probe and the AMG preconditioner
+  /// depend on the geometry alone, so a restarted run makes the same ones).
+  std::vector<double> system_values(std::span<const double> weight, std::size_t s,
+                                    bool geometry_only) const;
   /// The diffusion rate of each species (constant per species), from one model evaluation.
   std::vector<double> species_diffusion() const;
   /// Applies options_.preconditioner; for kAuto runs the Jacobi probe. Collective.
