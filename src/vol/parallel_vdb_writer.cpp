@@ -117,9 +117,10 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
   const int first_layer = owned_first / kLeafDim;
   const int layers = owned_planes == 0 ? 0 : (owned_planes + kLeafDim - 1) / kLeafDim;
 
-  // Rank 0 knows the head's size (the UUID comes last but has a fixed length).
-  std::uint64_t head_bytes =
-      comm.is_root() ? layout.head(grid_name, std::string(36, '0')).size() : 0;
+  // Rank 0 makes the head now, for its size; the UUID (a fixed 36 characters) is put in once
+  // the leaves are written.
+  std::string head = comm.is_root() ? layout.head(grid_name, std::string(36, '0')) : "";
+  std::uint64_t head_bytes = head.size();
   MPI_Bcast(&head_bytes, 1, MPI_UINT64_T, 0, comm.raw);
   const std::uint64_t leaves_at = head_bytes + layout.topology_bytes();
   const std::size_t record_bytes = layout.leaf_record_bytes();
@@ -178,8 +179,8 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
       return;
-    const std::string head = layout.head(grid_name, content_uuid(checksum, dims.count()));
-    TEXSIM_VERIFY(head.size() == head_bytes, path.string() << ": the head changed size");
+    const std::string uuid = content_uuid(checksum, dims.count());
+    head.replace(DenseVdbLayout::kUuidAt, uuid.size(), uuid);
     file.write_at(0, std::as_bytes(std::span(head)));
     std::uint64_t at = head.size();
     layout.write_topology([&](std::string_view bytes) {

@@ -113,6 +113,7 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
   write_pod(os, std::uint32_t(openvdb::OPENVDB_LIBRARY_MAJOR_VERSION));
   write_pod(os, std::uint32_t(openvdb::OPENVDB_LIBRARY_MINOR_VERSION));
   write_pod(os, char(1)); // the file has grid offsets
+  TEXSIM_ASSERT(std::size_t(os.tellp()) == kUuidAt, "the UUID starts at byte " << os.tellp());
   os.write(uuid.data(), static_cast<std::streamsize>(uuid.size()));
   openvdb::MetaMap().writeMeta(os); // no file metadata
   write_pod(os, std::int32_t(1));   // one grid
@@ -121,7 +122,9 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     openvdb::io::GridDescriptor descriptor(grid_name, Grid::gridType());
     descriptor.writeHeader(os);
     const auto positions_at = static_cast<std::size_t>(os.tellp());
-    descriptor.writeStreamPos(os); // placeholders, filled in below
+    // The grid's stream positions depend on the head's own length: written as zeros here and
+    // overwritten once it is known, as openvdb::io::Archive::writeGrid seeks back to do.
+    descriptor.writeStreamPos(os);
     const auto grid_at = static_cast<std::int64_t>(os.tellp());
     write_pod(os, std::uint32_t(openvdb::io::COMPRESS_NONE));
     describe_dense_grid(grid, dims_, {1.0, 1.0, 1.0}, {0.0, 0.0, 0.0}, grid_name);

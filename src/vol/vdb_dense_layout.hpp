@@ -26,6 +26,9 @@ namespace texsim::vol {
 class DenseVdbLayout {
 public:
   static constexpr int kLeafDim = 8;
+  /// Where the 36-character UUID sits in the file: after the magic number, three versions and
+  /// the grid-offsets flag.
+  static constexpr std::size_t kUuidAt = 21;
 
   /// A volume of `dims` voxels of `channels` (1 or 3) floats.
   DenseVdbLayout(Dims dims, int channels);

@@ -30,8 +30,7 @@ namespace texsim::vol {
 namespace {
 namespace fs = std::filesystem;
 
-/// Bytes [21, 57) of a .vdb: the UUID, after the magic number, three versions and a flag.
-constexpr std::size_t kUuidAt = 21, kUuidLength = 36;
+constexpr std::size_t kUuidAt = DenseVdbLayout::kUuidAt, kUuidLength = 36;
 
 float value(int i, int j, int k, int c) {
   // Some voxels are exactly 0, the background: they must stay active.

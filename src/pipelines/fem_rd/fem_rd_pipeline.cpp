@@ -175,6 +175,9 @@ void FemRdPipeline::run(RunContext& ctx) {
 
   auto finish = ctx.timers.scope("finish");
   nlohmann::json species = nlohmann::json::object();
+  std::optional<DiffusionField> field;
+  if (settings_.diffusion)
+    field.emplace(*settings_.diffusion, solver.species_names());
   for (std::size_t s = 0; s < solver.species_count(); ++s) {
     const auto& stats = solver.solve_stats(s);
     const auto owned = solver.local_values(s).first(mesh->owned_count());
@@ -188,10 +191,9 @@ void FemRdPipeline::run(RunContext& ctx) {
                                           {"regions_above_mean", regions.regions},
                                           {"min", range.min},
                                           {"max", range.max}};
-    if (settings_.diffusion) {
-      const DiffusionField field(*settings_.diffusion, solver.species_names());
+    if (field) {
       const StripeOrientation orientation =
-          stripe_orientation(*mesh, solver.local_values(s), field);
+          stripe_orientation(*mesh, solver.local_values(s), *field);
       species[solver.species_names()[s]]["stripes"] = {
           {"angle_to_field_deg", orientation.angle_to_field_deg},
           {"coherence", orientation.coherence}};

@@ -49,7 +49,10 @@ write_volume_and_sections(const par::Comm& comm, const std::filesystem::path& di
   // Every rank colours its own planes, keeps them for the .vdb and takes their share of every
   // cross section.
   std::vector<vol::CrossSections> sections = empty_sections(grid, channels, cross_sections);
+  // Room for the 7 planes the .vdb writer may append to finish a leaf layer.
   std::vector<float> colours;
+  colours.reserve(std::size_t(std::max(planes.end - planes.begin, 0) + 7) * std::size_t(dims[0]) *
+                  std::size_t(dims[1]) * std::size_t(channels));
   for (int k = planes.begin; k < planes.end; ++k) {
     auto stage = timers.scope("colouring");
     const vol::ChannelGrid plane = coloured_planes(slab, exemplar, dims[0], dims[1], k, 1);
