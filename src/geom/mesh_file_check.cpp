@@ -133,6 +133,44 @@ struct PlyHeader {
   std::int64_t body_line = 0; ///< line number of the body's first line (ASCII)
 };
 
+/// VTK 9.1 reads a PLY line with fgets into 4096 bytes and overwrites the last two: a longer line
+/// is split, and the piece it reads as a line of its own can be empty.
+constexpr std::size_t kPlyLongestLine = 4093;
+
+/// The words of a PLY line as VTK 9.1's reader splits it: on spaces and tabs only (a form feed or
+/// a carriage return inside a line joins two numbers into one word), a final '\r' dropped.
+std::vector<std::string_view> ply_words_of(std::string_view line) {
+  if (line.ends_with('\r'))
+    line.remove_suffix(1);
+  std::vector<std::string_view> words;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    pos = std::min(line.find_first_not_of(" \t", pos), line.size());
+    const std::size_t end = std::min(line.find_first_of(" \t", pos), line.size());
+    if (end > pos)
+      words.push_back(line.substr(pos, end - pos));
+    pos = end;
+  }
+  return words;
+}
+
+/// Refuses a PLY text line VTK 9.1 would misread into a crash: a control character other than a
+/// tab or a final '\r' (a NUL ends its line early; found by fuzz/), or a line longer than it reads.
+void require_readable_ply_line(const std::filesystem::path& path, std::string_view line,
+                               const std::string& where) {
+  const std::string_view content = line.ends_with('\r') ? line.substr(0, line.size() - 1) : line;
+  const auto control = std::find_if(content.begin(), content.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 && c != '\t';
+  });
+  if (control != content.end())
+    refuse(path, where, " holds the control byte ", int(static_cast<unsigned char>(*control)),
+           " at column ", control - content.begin() + 1,
+           "; expected text whose words are separated by spaces or tabs");
+  if (line.size() > kPlyLongestLine)
+    refuse(path, where, " is ", line.size(),
+           " bytes long; VTK's PLY reader reads lines of at most ", kPlyLongestLine, " bytes");
+}
+
 constexpr const char* kPlyTypes = "char uchar short ushort int uint float double (or int8 ... "
                                   "float64)";
 
@@ -140,18 +178,14 @@ PlyHeader parse_ply_header(const std::filesystem::path& path, std::string_view t
   PlyHeader header;
   Lines lines(text);
   std::string_view line;
-  if (!lines.next(line) || words_of(line) != std::vector<std::string_view>{"ply"})
+  if (!lines.next(line) || ply_words_of(line) != std::vector<std::string_view>{"ply"})
     refuse(path, "does not start with the line 'ply'; not a PLY file");
   bool has_format = false;
   bool ended = false;
   while (!ended && lines.next(line)) {
-    const auto words = words_of(line);
     const auto where = [&] { return "header line " + std::to_string(lines.number()); };
-    // VTK 9.1's reader crashes on a NUL byte in the header (found by fuzz/).
-    if (std::any_of(line.begin(), line.end(), [](char c) {
-          return static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r';
-        }))
-      refuse(path, where(), " holds a control character; expected a text header");
+    require_readable_ply_line(path, line, where());
+    const auto words = ply_words_of(line);
     // VTK 9.1's reader dereferences the missing first word of a blank line (found by fuzz/).
     if (words.empty())
       refuse(path, where(), " is blank; expected a keyword on every header line");
@@ -308,7 +342,10 @@ private:
     std::string_view line;
     if (!lines.next(line))
       truncated(element, i);
-    words_ = words_of(line);
+    require_readable_ply_line(path_, line,
+                              "PLY " + element.name + " " + std::to_string(i) + " (line " +
+                                  std::to_string(header_.body_line + lines.number() - 1) + ")");
+    words_ = ply_words_of(line);
     word_ = 0;
     // VTK 9.1's reader frees memory it does not own on an empty line (found by fuzz/).
     if (words_.empty())
@@ -401,7 +438,10 @@ MeshFileCounts check_ply(const std::filesystem::path& path, std::string_view tex
   const PlyHeader header = parse_ply_header(path, text);
   const PlyRoles roles = find_roles(path, header);
   PlyBodyWalker(path, text, header, roles).walk();
-  return {roles.vertex->count, roles.face != nullptr ? roles.face->count : 0};
+  const bool last_line_is_text =
+      header.format == PlyFormat::ascii || header.body_offset >= text.size();
+  return {roles.vertex->count, roles.face != nullptr ? roles.face->count : 0,
+          last_line_is_text && !text.ends_with('\n')};
 }
 
 // ---------------------------------------------------------------------------------------------

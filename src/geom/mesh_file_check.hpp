@@ -13,6 +13,9 @@ namespace texsim::geom {
 struct MeshFileCounts {
   std::uint64_t vertices = 0;
   std::uint64_t faces = 0;
+  /// A PLY file whose last text line (ASCII body or header) has no '\n': VTK 9.1's reader scans
+  /// past the end of such a line, so the reader must be given the text with one appended.
+  bool ply_needs_final_newline = false;
 };
 
 /// Checks the file by its extension: .ply (header grammar, `end_header`, supported property

@@ -30,6 +30,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,12 +52,19 @@ template <class Reader> vtkSmartPointer<Reader> reader_for(const std::string& fi
   return reader;
 }
 
-vtkSmartPointer<vtkAlgorithm> make_vtk_reader(const std::string& ext, const std::string& file) {
+/// A reader of `file`, or of `text_for_vtk` in its place when given (PLY only).
+vtkSmartPointer<vtkAlgorithm> make_vtk_reader(const std::string& ext, const std::string& file,
+                                              const std::optional<std::string>& text_for_vtk) {
   if (ext == ".obj") {
     return reader_for<vtkOBJReader>(file);
   }
   if (ext == ".ply") {
-    return reader_for<vtkPLYReader>(file);
+    auto reader = reader_for<vtkPLYReader>(file);
+    if (text_for_vtk) {
+      reader->ReadFromInputStringOn();
+      reader->SetInputString(*text_for_vtk);
+    }
+    return reader;
   }
   if (ext == ".stl") {
     auto reader = reader_for<vtkSTLReader>(file);
@@ -91,10 +99,11 @@ void update_or_throw(vtkAlgorithm* algorithm, const std::filesystem::path& path,
 }
 
 /// The file's surface as VTK triangles, point data passed through.
-vtkSmartPointer<vtkPolyData> read_vtk_triangles(const std::filesystem::path& path,
-                                                const std::string& ext) {
+vtkSmartPointer<vtkPolyData>
+read_vtk_triangles(const std::filesystem::path& path, const std::string& ext,
+                   const std::optional<std::string>& text_for_vtk = std::nullopt) {
   const auto expected = "a " + ext.substr(1) + " mesh file";
-  auto reader = make_vtk_reader(ext, path.string());
+  auto reader = make_vtk_reader(ext, path.string(), text_for_vtk);
   update_or_throw(reader, path, expected.c_str());
 
   auto* dataset = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
@@ -164,8 +173,12 @@ TriangleMesh read_raw_mesh(const std::filesystem::path& path) {
   }
   require_file(path);
   // VTK's readers trust what they read: a PLY header larger than its body crashes them.
-  check_mesh_file(path);
-  auto mesh = vtk_format ? to_triangle_mesh(read_vtk_triangles(path, ext), path) : read_off(path);
+  const MeshFileCounts counts = check_mesh_file(path);
+  std::optional<std::string> text_for_vtk;
+  if (counts.ply_needs_final_newline)
+    text_for_vtk = read_regular_file(path, "mesh file", UINT64_MAX) + '\n';
+  auto mesh = vtk_format ? to_triangle_mesh(read_vtk_triangles(path, ext, text_for_vtk), path)
+                         : read_off(path);
   if (mesh.triangles.empty()) {
     TEXSIM_INPUT_ERROR(path.string() << ": no triangles (" << mesh.positions.size()
                                      << " vertices); expected a triangle surface");

@@ -21,6 +21,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <tuple>
 
 namespace texsim::geom {
 namespace {
@@ -143,6 +144,43 @@ TEST(MeshReader, EveryFormatRoundTrips) {
       const auto& tri = mesh.triangles[t];
       ASSERT_EQ((Triangle{match[tri[0]], match[tri[1]], match[tri[2]]}), original.triangles[t]);
     }
+  }
+}
+
+/// An ASCII PLY of `mesh`, lines ending in `newline`, words separated by `separator`, and the last
+/// line ending with or without its newline.
+std::filesystem::path write_ascii_ply(const TriangleMesh& mesh, const std::string& name,
+                                      const std::string& newline, const std::string& separator,
+                                      bool final_newline) {
+  const auto path = test::scratch_dir("geom_mesh_reader_" + name) / name;
+  std::ofstream out(path, std::ios::binary);
+  out << "ply" << newline << "format ascii 1.0" << newline << "element vertex "
+      << mesh.num_vertices() << newline << "property float x" << newline << "property float y"
+      << newline << "property float z" << newline << "element face " << mesh.num_triangles()
+      << newline << "property list uchar int vertex_indices" << newline << "end_header" << newline;
+  for (const auto& p : mesh.positions)
+    out << format(p.x()) << separator << format(p.y()) << separator << format(p.z()) << newline;
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    out << 3 << separator << tri[0] << separator << tri[1] << separator << tri[2]
+        << (t + 1 < mesh.num_triangles() || final_newline ? newline : "");
+  }
+  return path;
+}
+
+// VTK 9.1's PLY reader scans past a last line without '\n' (found by fuzz/): such files are
+// common and valid, so they are read, not refused; CRLF lines and tabs read as well.
+TEST(MeshReader, AsciiPlyReadsWithoutFinalNewlineWithCrlfAndTabs) {
+  const auto original = icosphere(1, 1.0);
+  const auto reference = read_raw_mesh(write_ascii_ply(original, "clean.ply", "\n", " ", true));
+  ASSERT_EQ(reference.num_triangles(), original.num_triangles());
+  for (const auto& [name, newline, separator] :
+       {std::tuple{"no_final_newline.ply", "\n", " "}, std::tuple{"crlf.ply", "\r\n", " "},
+        std::tuple{"crlf_tabs.ply", "\r\n", "\t"}}) {
+    SCOPED_TRACE(name);
+    const auto mesh = read_raw_mesh(write_ascii_ply(original, name, newline, separator, false));
+    EXPECT_EQ(mesh.positions, reference.positions);
+    EXPECT_EQ(mesh.triangles, reference.triangles);
   }
 }
 

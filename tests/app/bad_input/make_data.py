@@ -148,6 +148,8 @@ def main():
     write("ply_nul_in_header.ply", ply_ascii().replace("element face", "\0\0\1face", 1))
     write("ply_duplicate_property.ply", ply_ascii(vertex_props=("x", "y", "x")))
     write("ply_empty_body_line.ply", ply_ascii().replace("end_header\n", "end_header\n\n"))
+    write("ply_form_feed_in_body.ply", ply_ascii().replace("\n1 0 0\n", "\n1 0\f0\n", 1))
+    write("ply_long_line.ply", ply_ascii().replace("\n1 0 0\n", "\n1 0 0" + " " * 5000 + "\n", 1))
     # STL
     write("stl_count_exceeds_data.stl", stl_binary(1000, [TETRA_V[:3]]))
     write("stl_short_header.stl", b"\x00\x01\x02" * 10)
