@@ -18,8 +18,14 @@ bool is_run_output(const fs::directory_entry& entry) {
   static constexpr std::array<std::string_view, 9> kExtensions = {
       ".pvd", ".vtp", ".pvtp", ".vtu", ".pvtu", ".vti", ".vdb", ".h5", ".png"};
   const auto name = entry.path().filename().string();
+  // A run refused before its first checkpoint (bad input found while running) leaves checkpoints/
+  // empty: nothing to restart from or to lose, so the corrected config may run there.
+  if (name == "checkpoints") {
+    std::error_code error;
+    return !fs::is_empty(entry.path(), error) || error;
+  }
   // A write cut short leaves its temporary file (io/atomic_file: NAME.tmp-PID).
-  if (name == "summary.json" || name == "checkpoints" || name.find(".tmp-") != std::string::npos)
+  if (name == "summary.json" || name.find(".tmp-") != std::string::npos)
     return true;
   const auto ext = entry.path().extension().string();
   for (const auto known : kExtensions)

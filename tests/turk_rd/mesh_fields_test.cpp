@@ -8,6 +8,7 @@
 #include "geom/generators.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
+#include "support/vtp_file.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -22,27 +23,10 @@ namespace fs = std::filesystem;
 
 fs::path write_sphere_with_width(const fs::path& path) {
   const auto mesh = geom::icosphere(3);
-  std::ofstream out(path);
-  out.precision(17);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\">\n<PolyData>\n"
-      << "<Piece NumberOfPoints=\"" << mesh.positions.size() << "\" NumberOfPolys=\""
-      << mesh.triangles.size() << "\">\n<PointData>\n"
-      << "<DataArray type=\"Float64\" Name=\"width\" format=\"ascii\">\n";
+  std::vector<double> width;
   for (const auto& p : mesh.positions)
-    out << 1 + 0.3 * p.x() - 0.2 * p.y() + 0.1 * p.z() << "\n";
-  out << "</DataArray>\n</PointData>\n<Points>\n"
-      << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.positions)
-    out << p.x() << " " << p.y() << " " << p.z() << "\n";
-  out << "</DataArray>\n</Points>\n<Polys>\n"
-      << "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& t : mesh.triangles)
-    out << t[0] << " " << t[1] << " " << t[2] << "\n";
-  out << "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t k = 1; k <= mesh.triangles.size(); ++k)
-    out << 3 * k << "\n";
-  out << "</DataArray>\n</Polys>\n</Piece>\n</PolyData>\n</VTKFile>\n";
-  return path;
+    width.push_back(1 + 0.3 * p.x() - 0.2 * p.y() + 0.1 * p.z());
+  return test::write_vtp(path, mesh, {{"width", width}});
 }
 
 /// Runs a 300-step spot system on the sphere file with the given diffusion settings; `region`

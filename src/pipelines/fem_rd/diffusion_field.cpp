@@ -1,6 +1,7 @@
 #include "pipelines/fem_rd/diffusion_field.hpp"
 
 #include "core/error.hpp"
+#include "geom/mesh_fields.hpp"
 #include "geom/mesh_measures.hpp"
 
 #include <Eigen/Core>
@@ -18,9 +19,15 @@ constexpr double kNormalFieldTolerance = 1e-6;
 
 } // namespace
 
-std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd) {
-  if (!fem_rd.has("diffusion"))
+std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd,
+                                                           const geom::MeshSource& mesh) {
+  auto mesh_fields = geom::read_mesh_fields(fem_rd, mesh);
+  if (!fem_rd.has("diffusion")) {
+    if (!mesh_fields.empty())
+      fem_rd.fail("mesh_fields", "a fem_rd.diffusion section to read them (its direction and "
+                                 "scale are the only formulas that may)");
     return std::nullopt;
+  }
   const ConfigSection section = fem_rd.section("diffusion");
   DiffusionFieldSettings settings;
   const auto direction = section.get<std::vector<std::string>>("direction", {"0", "0", "0"});
@@ -31,6 +38,7 @@ std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& 
   settings.across = section.get<double>("across", settings.across, positive());
   settings.scale = section.get<std::string>("scale", settings.scale);
   settings.species = section.get<std::vector<std::string>>("species", {});
+  settings.mesh_fields = std::move(mesh_fields);
   return settings;
 }
 
@@ -45,11 +53,18 @@ DiffusionField::DiffusionField(const DiffusionFieldSettings& settings,
       TEXSIM_INPUT_ERROR(kSection << ".species: the model has no species '" << name
                                   << "', expected some of " << known);
     }
+  for (const auto& name : settings.mesh_fields)
+    if (std::find(species.begin(), species.end(), name) != species.end())
+      TEXSIM_INPUT_ERROR("fem_rd.mesh_fields: '" << name
+                                                 << "' is also a species' name; expected names "
+                                                    "that say which one a formula reads");
   for (std::size_t c = 0; c < 3; ++c)
     direction_[c] = std::make_unique<geom::PointExpression>(
-        settings.direction[c], std::vector<std::string>{},
+        settings.direction[c], settings.mesh_fields,
         std::string(kSection) + ".direction[" + std::to_string(c) + "]");
-  scale_ = std::make_unique<geom::PointExpression>(settings.scale, species,
+  std::vector<std::string> scale_names = species;
+  scale_names.insert(scale_names.end(), settings.mesh_fields.begin(), settings.mesh_fields.end());
+  scale_ = std::make_unique<geom::PointExpression>(settings.scale, scale_names,
                                                    std::string(kSection) + ".scale");
   depends_on_species_ = std::any_of(species.begin(), species.end(),
                                     [&](const std::string& name) { return scale_->uses(name); });
@@ -68,13 +83,36 @@ std::vector<double> coordinates(const geom::TriangleMesh& mesh) {
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
   return xyz;
 }
+
+/// The first `count` values of each column.
+std::vector<std::span<const double>> first(const std::vector<std::vector<double>>& columns,
+                                           std::size_t count) {
+  std::vector<std::span<const double>> spans;
+  for (const auto& column : columns)
+    spans.push_back(std::span(column).first(count));
+  return spans;
+}
 } // namespace
+
+const std::vector<std::vector<double>>&
+DiffusionField::mesh_fields_at(const geom::TriangleMesh& mesh) const {
+  if (settings_.mesh_fields.empty() || mesh.positions == sampled_positions_)
+    return sampled_values_;
+  TEXSIM_VERIFY(settings_.mesh_field_values,
+                "fem_rd.mesh_fields were not loaded before the diffusion field was evaluated");
+  sampled_values_.clear();
+  for (std::size_t k = 0; k < settings_.mesh_fields.size(); ++k)
+    sampled_values_.push_back(settings_.mesh_field_values->sample(k, mesh.positions));
+  sampled_positions_ = mesh.positions;
+  return sampled_values_;
+}
 
 std::vector<geom::Vec3> DiffusionField::tangent_directions(const geom::TriangleMesh& mesh) const {
   const std::vector<double> xyz = coordinates(mesh);
+  const auto mesh_fields = first(mesh_fields_at(mesh), mesh.positions.size());
   std::array<std::vector<double>, 3> field;
   for (std::size_t c = 0; c < 3; ++c)
-    field[c] = direction_[c]->evaluate(xyz, {});
+    field[c] = direction_[c]->evaluate(xyz, mesh_fields);
   const auto normals = geom::vertex_normals(mesh);
   std::vector<geom::Vec3> directions(mesh.positions.size(), geom::Vec3::Zero());
   for (std::size_t i = 0; i < directions.size(); ++i) {
@@ -91,7 +129,10 @@ DiffusionField::tensors(const geom::TriangleMesh& mesh, std::size_t count,
                         const std::vector<std::span<const double>>& species) const {
   std::vector<double> xyz = coordinates(mesh);
   xyz.resize(3 * count);
-  const std::vector<double> scale = scale_->evaluate(xyz, species);
+  std::vector<std::span<const double>> columns = species;
+  for (const auto column : first(mesh_fields_at(mesh), count))
+    columns.push_back(column);
+  const std::vector<double> scale = scale_->evaluate(xyz, columns);
   const auto directions = tangent_directions(mesh);
   std::vector<double> tensors(9 * directions.size(), 0.0);
   for (std::size_t i = 0; i < count; ++i) {

@@ -9,10 +9,15 @@
 /// field is normal to the surface (or zero) t is undefined and the tensor is isotropic with the
 /// mean rate (along + across) / 2.
 ///
+/// Direction and scale may read point arrays of the mesh file (fem_rd.mesh_fields), taken at the
+/// closest point of the file's surface, as turk_rd's diffusion_scale does.
+///
 /// A tensor of the geometry only is assembled into K once per mesh rebuild; one that reads the
 /// species is assembled every step from u^n (ReactionDiffusionSolver).
 #include "core/config.hpp"
+#include "geom/mesh_source.hpp"
 #include "geom/point_expression.hpp"
+#include "geom/surface_field_sampler.hpp"
 #include "geom/triangle_mesh.hpp"
 
 #include <array>
@@ -30,16 +35,24 @@ struct DiffusionFieldSettings {
   double across = 1.0;                                 ///< fem_rd.diffusion.across
   std::string scale = "1";                             ///< fem_rd.diffusion.scale
   std::vector<std::string> species;                    ///< empty: every species
+  /// fem_rd.mesh_fields: point arrays of fem_rd.mesh.file that direction and scale may read.
+  std::vector<std::string> mesh_fields;
+  /// Their values (field k of mesh_fields), loaded by the pipeline before the solver is built;
+  /// may stay empty while only the formulas are checked.
+  std::shared_ptr<const geom::SurfaceFieldSampler> mesh_field_values;
 };
 
-/// The section fem_rd.diffusion, or nothing when it is absent. InputError naming the key for a
-/// direction that is not 3 expressions or rates that are not positive.
-std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd);
+/// The section fem_rd.diffusion with fem_rd.mesh_fields, or nothing when it is absent. InputError
+/// naming the key for a direction that is not 3 expressions, rates that are not positive, or mesh
+/// fields without a diffusion section (nothing else reads them).
+std::optional<DiffusionFieldSettings> read_diffusion_field(const ConfigSection& fem_rd,
+                                                           const geom::MeshSource& mesh);
 
 class DiffusionField {
 public:
-  /// The field of a model whose species are `species` (the scale may read their values).
-  /// InputError naming the key for an unparsable formula or a listed species the model lacks.
+  /// The field of a model whose species are `species` (the scale may read their values; direction
+  /// and scale may read the mesh fields). InputError naming the key for an unparsable formula, a
+  /// listed species the model lacks or a mesh field named like a species.
   DiffusionField(const DiffusionFieldSettings& settings, const std::vector<std::string>& species);
 
   /// Whether the tensor applies to species `name`.
@@ -57,7 +70,13 @@ public:
                               const std::vector<std::span<const double>>& species) const;
 
 private:
+  /// The mesh fields at every vertex of `mesh` (sampled once per geometry: the last positions'
+  /// values are kept).
+  const std::vector<std::vector<double>>& mesh_fields_at(const geom::TriangleMesh& mesh) const;
+
   DiffusionFieldSettings settings_;
+  mutable std::vector<geom::Vec3> sampled_positions_;
+  mutable std::vector<std::vector<double>> sampled_values_;
   bool depends_on_species_ = false;
   std::array<std::unique_ptr<geom::PointExpression>, 3> direction_;
   std::unique_ptr<geom::PointExpression> scale_;

@@ -22,7 +22,7 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
                                        {"jacobi", RdPreconditioner::kJacobi},
                                        {"gamg", RdPreconditioner::kGamg},
                                        {"boomeramg", RdPreconditioner::kBoomerAmg}});
-  settings.diffusion = read_diffusion_field(section);
+  settings.diffusion = read_diffusion_field(section, settings.mesh);
 
   const auto smoothing = section.section("smoothing");
   settings.smoothing = smoothing.get<bool>("enabled", false);

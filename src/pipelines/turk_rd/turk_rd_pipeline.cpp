@@ -4,10 +4,9 @@
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
-#include "geom/mesh_reader.hpp"
+#include "geom/mesh_fields.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/point_expression.hpp"
-#include "geom/surface_field_sampler.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
 #include "par/global_median.hpp"
@@ -53,10 +52,7 @@ FieldMap sample_mesh_fields(const par::Comm& comm, const TurkRdSettings& setting
   if (settings.mesh_fields.empty())
     return fields;
   par::run_collectively(comm, [&] {
-    auto file = geom::read_vertex_fields(settings.mesh.file, settings.mesh_fields);
-    for (auto& position : file.mesh.positions)
-      position *= settings.mesh.scale;
-    const geom::SurfaceFieldSampler sampler(file.mesh, std::move(file.values));
+    const auto sampler = geom::load_mesh_fields(settings.mesh, settings.mesh_fields);
     std::vector<geom::Vec3> points;
     for (const auto& p : cells.points())
       points.push_back(p.position);

@@ -1,10 +1,10 @@
 #include "pipelines/turk_rd/turk_rd_settings.hpp"
 
 #include "core/error.hpp"
+#include "geom/mesh_fields.hpp"
 #include "geom/point_expression.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <numeric>
 
 namespace texsim::pipelines::turk_rd {
@@ -65,26 +65,6 @@ std::vector<InitiatorSettings> read_initiators(const ConfigSection& initiators,
   return result;
 }
 
-/// `mesh_fields: [name, ...]`: point arrays of the mesh file, each a plain identifier.
-std::vector<std::string> read_mesh_fields(const ConfigSection& section,
-                                          const geom::MeshSource& mesh) {
-  const auto names = section.get<std::vector<std::string>>("mesh_fields", {});
-  if (!names.empty() && mesh.file.empty())
-    section.fail("mesh_fields", "no mesh fields with a generated mesh (they are point arrays of "
-                                "mesh.file)");
-  for (const auto& name : names) {
-    const bool identifier =
-        !name.empty() && !std::isdigit(static_cast<unsigned char>(name.front())) &&
-        std::all_of(name.begin(), name.end(),
-                    [](unsigned char c) { return std::isalnum(c) || c == '_'; });
-    if (!identifier || name == "x" || name == "y" || name == "z")
-      section.fail("mesh_fields", "array names usable in expressions (letters, digits, _; not "
-                                  "x, y, z), got '" +
-                                      name + "'");
-  }
-  return names;
-}
-
 RenderSettings read_render(const ConfigSection& render) {
   RenderSettings settings;
   settings.colormap = PatternColormap::from_config(render, tan_to_dark_stops());
@@ -122,7 +102,7 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
   TurkRdSettings settings;
   settings.mesh = geom::read_mesh_source(section.section("mesh"));
   settings.cells = read_cells(section.section("cells"));
-  settings.mesh_fields = read_mesh_fields(section, settings.mesh);
+  settings.mesh_fields = geom::read_mesh_fields(section, settings.mesh);
   settings.diffusion_scale = section.get<std::string>("diffusion_scale", "1");
   geom::PointExpression(settings.diffusion_scale, settings.mesh_fields,
                         section.key_path("diffusion_scale"));
