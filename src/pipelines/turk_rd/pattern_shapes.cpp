@@ -83,6 +83,26 @@ geom::CsrAdjacency local_graph(const geom::SurfaceCells& cells) {
 
 } // namespace
 
+std::vector<std::int64_t> label_cell_regions(const par::Comm& comm, const geom::SurfaceCells& cells,
+                                             std::span<const char> owned_marked) {
+  const std::int32_t owned = cells.owned_count();
+  par::GhostedVector halo(comm, owned, cells.ghost_blocks());
+  std::vector<double> marks(owned_marked.begin(), owned_marked.end());
+  halo.set_owned(marks);
+  const std::span<const double> local_marks = halo.local();
+  std::vector<char> marked(local_marks.size());
+  std::vector<std::int64_t> ids(local_marks.size());
+  for (std::size_t i = 0; i < local_marks.size(); ++i) {
+    marked[i] = local_marks[i] != 0;
+    ids[i] = i < std::size_t(owned) ? cells.ids()[i] : cells.ghost_ids()[i - std::size_t(owned)];
+  }
+  return geom::label_regions_across_ranks(
+      comm, local_graph(cells), marked, ids, owned, [&](std::span<double> local) {
+        halo.set_owned(local.first(std::size_t(owned)));
+        std::copy(halo.local().begin() + owned, halo.local().end(), local.begin() + owned);
+      });
+}
+
 PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& cells,
                               std::span<const double> owned_values) {
   const std::int32_t owned = cells.owned_count();
@@ -93,21 +113,10 @@ PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& c
     return {};
   // The mean as a reproducible sum: the same threshold, to the bit, on any number of ranks.
   const double mean = par::reproducible_sum(comm, owned_values) / double(total_cells);
-
-  par::GhostedVector halo(comm, owned, cells.ghost_blocks());
-  halo.set_owned(owned_values);
-  const std::span<const double> values = halo.local();
-  std::vector<char> above(values.size());
-  std::vector<std::int64_t> ids(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    above[i] = values[i] > mean;
-    ids[i] = i < std::size_t(owned) ? cells.ids()[i] : cells.ghost_ids()[i - std::size_t(owned)];
-  }
-  const auto labels = geom::label_regions_across_ranks(
-      comm, local_graph(cells), above, ids, owned, [&](std::span<double> local) {
-        halo.set_owned(local.first(std::size_t(owned)));
-        std::copy(halo.local().begin() + owned, halo.local().end(), local.begin() + owned);
-      });
+  std::vector<char> above(std::size_t(owned), 0);
+  for (std::int32_t i = 0; i < owned; ++i)
+    above[std::size_t(i)] = owned_values[std::size_t(i)] > mean;
+  const auto labels = label_cell_regions(comm, cells, above);
 
   // Border lengths as the old serial measure had them: coupling x distance between the cells.
   const auto position = [&](std::int32_t local) {

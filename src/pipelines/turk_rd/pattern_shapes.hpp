@@ -8,7 +8,9 @@
 #include "geom/surface_cells.hpp"
 #include "par/comm.hpp"
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 namespace texsim::pipelines::turk_rd {
 
@@ -28,6 +30,12 @@ struct PatternShapes {
   double median_aspect = 0;
   double weighted_aspect = 0;
 };
+
+/// The connected regions of the cells marked in `owned_marked` (one entry per owned cell): for
+/// the owned cells and then the ghosts, the smallest global cell id of the region, -1 where
+/// unmarked; the same labels on any number of ranks. Collective.
+std::vector<std::int64_t> label_cell_regions(const par::Comm& comm, const geom::SurfaceCells& cells,
+                                             std::span<const char> owned_marked);
 
 /// Measured where the cells lie: the mean as a reproducible sum, the regions labelled across
 /// ranks (geom::label_regions_across_ranks), each rank's share of a region's area and border as

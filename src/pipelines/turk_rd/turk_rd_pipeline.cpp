@@ -16,6 +16,7 @@
 #include "pipelines/turk_rd/initiators.hpp"
 #include "pipelines/turk_rd/pattern_frames.hpp"
 #include "pipelines/turk_rd/pattern_shapes.hpp"
+#include "pipelines/turk_rd/ring_profile.hpp"
 
 #include <mpi.h>
 
@@ -189,15 +190,36 @@ public:
 
   /// The stage's `show` value at the owned cells.
   std::vector<double> shown(const FieldMap& earlier) const {
+    return evaluate(stage_.show, "show", earlier);
+  }
+
+  /// The ring profile the stage's `rings` section asks for. Collective.
+  RingProfile rings(const par::Comm& comm, const geom::SurfaceCells& cells,
+                    const FieldMap& earlier) const {
+    const auto nonzero = [](const std::vector<double>& values) {
+      std::vector<char> marks(values.size());
+      std::transform(values.begin(), values.end(), marks.begin(),
+                     [](double v) { return char(v != 0); });
+      return marks;
+    };
+    return measure_rings(comm, cells,
+                         nonzero(evaluate(stage_.ring_regions, "rings.regions", earlier)),
+                         nonzero(evaluate(stage_.ring_marks, "rings.marks", earlier)));
+  }
+
+private:
+  /// `expression` over the stage's species, x, y, z and the earlier stages' results ("show"'s
+  /// variables) at the owned cells; `key` names it under the stage's key path in errors.
+  std::vector<double> evaluate(const std::string& expression, const std::string& key,
+                               const FieldMap& earlier) const {
     FieldMap all = species_fields();
     all.insert(earlier.begin(), earlier.end());
     auto names = stage_.species;
     names.insert(names.end(), earlier_names_.begin(), earlier_names_.end());
-    return geom::PointExpression(stage_.show, names, stage_.key_path + ".show")
+    return geom::PointExpression(expression, names, stage_.key_path + "." + key)
         .evaluate(xyz_, columns(all, names));
   }
 
-private:
   const StageSettings& stage_;
   std::vector<std::string> earlier_names_;
   CellRdSolver solver_;
@@ -400,6 +422,14 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                    {"regions_above_mean", shown_shapes.regions},
                                    {"median_elongation", shown_shapes.median_elongation},
                                    {"median_aspect", shown_shapes.median_aspect}}}};
+    if (!stage.ring_regions.empty()) {
+      const RingProfile rings = stage_run.rings(comm, cells, earlier);
+      stage_metrics[stage.name]["rings"] = {{"regions", rings.regions},
+                                            {"marked_by_radius", rings.marked_by_radius},
+                                            {"centre_marked", rings.centre_marked},
+                                            {"rim_marked", rings.rim_marked},
+                                            {"rim_sectors_marked", rings.rim_sectors_marked}};
+    }
     for (const auto& [name, values] : carried)
       earlier[stage.name + "_" + name] = values;
   }

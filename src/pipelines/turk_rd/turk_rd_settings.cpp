@@ -147,6 +147,13 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
     auto show_names = stage.species;
     show_names.insert(show_names.end(), earlier.begin(), earlier.end());
     geom::PointExpression(stage.show, show_names, entry.key_path("show"));
+    if (entry.has("rings")) {
+      const ConfigSection rings = entry.section("rings");
+      stage.ring_regions = rings.require<std::string>("regions");
+      stage.ring_marks = rings.require<std::string>("marks");
+      geom::PointExpression(stage.ring_regions, show_names, rings.key_path("regions"));
+      geom::PointExpression(stage.ring_marks, show_names, rings.key_path("marks"));
+    }
     stage.initiators = read_initiators(entry.section("initiators"), stage, settings.mesh_fields);
     settings.stages.push_back(std::move(stage));
   }

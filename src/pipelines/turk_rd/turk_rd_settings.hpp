@@ -51,6 +51,11 @@ struct StageSettings {
   /// The scalar shown and rendered (expression of this stage's species, x, y, z and earlier
   /// stages' "<stage>_<species>").
   std::string show;
+  /// rings: {regions, marks}: two expressions over the same variables as `show`; where they are
+  /// nonzero are the regions (e.g. an earlier stage's large spots) and the marks whose radial
+  /// profile summary.json reports (measure_rings). Empty: not measured.
+  std::string ring_regions;
+  std::string ring_marks;
   std::vector<InitiatorSettings> initiators;
   std::string key_path; ///< "turk_rd.stages.<name>"
 };
