@@ -53,17 +53,15 @@ struct Square {
 
 TEST(RingProfile, AnnulusCoversTheRimAndEverySectorNotTheCentre) {
   const Square square;
-  const auto ring = square.measure([](const geom::Vec3& p, const geom::Vec3& c) {
-    return (p - c).norm() > 0.8 * kRadius;
-  });
+  const auto ring = square.measure(
+      [](const geom::Vec3& p, const geom::Vec3& c) { return (p - c).norm() > 0.8 * kRadius; });
   EXPECT_EQ(ring.regions, 3);
   EXPECT_EQ(ring.centre_marked, 0.0);
   EXPECT_GT(ring.rim_marked, 0.5);
   EXPECT_EQ(ring.rim_sectors_marked, 1.0);
 
-  const auto centre = square.measure([](const geom::Vec3& p, const geom::Vec3& c) {
-    return (p - c).norm() < 0.3 * kRadius;
-  });
+  const auto centre = square.measure(
+      [](const geom::Vec3& p, const geom::Vec3& c) { return (p - c).norm() < 0.3 * kRadius; });
   EXPECT_GT(centre.centre_marked, 0.2);
   EXPECT_EQ(centre.rim_marked, 0.0);
   EXPECT_EQ(centre.rim_sectors_marked, 0.0);

@@ -29,8 +29,8 @@ nlohmann::json rings_of(const std::string& name, const std::string& active,
                         << "      dt: 0.5\n      steps: 8000\n      active_start: initial\n"
                         << active << "      rings: {regions: \"large_a > 4\", marks: \"" << marks
                         << "\"}\n";
-  const auto outcome = test::run_command(test::texsim_under_mpirun(2) + " " +
-                                                 config.string() + " --quiet");
+  const auto outcome =
+      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
   EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
   std::ifstream in(dir / name / "summary.json");
   return nlohmann::json::parse(in)["metrics"]["stages"]["rosettes"]["rings"];

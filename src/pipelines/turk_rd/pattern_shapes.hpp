@@ -8,9 +8,7 @@
 #include "geom/surface_cells.hpp"
 #include "par/comm.hpp"
 
-#include <cstdint>
 #include <span>
-#include <vector>
 
 namespace texsim::pipelines::turk_rd {
 
@@ -31,16 +29,9 @@ struct PatternShapes {
   double weighted_aspect = 0;
 };
 
-/// The connected regions of the cells marked in `owned_marked` (one entry per owned cell): for
-/// the owned cells and then the ghosts, the smallest global cell id of the region, -1 where
-/// unmarked; the same labels on any number of ranks. Collective.
-std::vector<std::int64_t> label_cell_regions(const par::Comm& comm, const geom::SurfaceCells& cells,
-                                             std::span<const char> owned_marked);
-
-/// Measured where the cells lie: the mean as a reproducible sum, the regions labelled across
-/// ranks (geom::label_regions_across_ranks), each rank's share of a region's area and border as
-/// sliced partial sums that rank 0 adds region by region, so no rank holds every cell and the
-/// figures are the same bits on any number of ranks. Every rank gets the result. Collective.
+/// Measured where the cells lie: the mean as a reproducible sum, the regions and their moments as
+/// region_moments gives them, so no rank holds every cell and the figures are the same bits on
+/// any number of ranks. Every rank gets the result. Collective.
 PatternShapes measure_pattern(const par::Comm& comm, const geom::SurfaceCells& cells,
                               std::span<const double> owned_values);
 

@@ -2,7 +2,7 @@
 
 #include "par/gather_to_root.hpp"
 #include "par/reproducible_sum.hpp"
-#include "pipelines/turk_rd/pattern_shapes.hpp"
+#include "pipelines/turk_rd/region_moments.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -17,16 +17,6 @@
 
 namespace texsim::pipelines::turk_rd {
 namespace {
-
-/// One rank's share of a region's cell count, area, and area-weighted first (x, y, z) and second
-/// (xx, xy, xz, yy, yz, zz) moments of the cells' positions.
-struct RegionShare {
-  std::int64_t label = 0;
-  std::int64_t cells = 0;
-  par::FoldedSum area{};
-  std::array<par::FoldedSum, 3> first{};
-  std::array<par::FoldedSum, 6> second{};
-};
 
 /// A measured region: its centre, equivalent radius and a frame of its tangent plane (the
 /// principal axes of its cells' positions; the third, the normal, is the least spread).
@@ -46,65 +36,26 @@ struct SectorShare {
 
 constexpr int kSectors = 8;
 
-std::array<double, 6> second_moments(double area, const geom::Vec3& x) {
-  return {area * x[0] * x[0], area * x[0] * x[1], area * x[0] * x[2],
-          area * x[1] * x[1], area * x[1] * x[2], area * x[2] * x[2]};
-}
-
 /// The region's table entry from its summed moments.
-RingRegion describe(std::int64_t label, double area, const std::array<double, 3>& first,
-                    const std::array<double, 6>& second) {
-  const Eigen::Vector3d mean(first[0] / area, first[1] / area, first[2] / area);
-  Eigen::Matrix3d covariance;
-  covariance << second[0], second[1], second[2], second[1], second[3], second[4], second[2],
-      second[4], second[5];
-  covariance = covariance / area - mean * mean.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+RingRegion describe(const RegionMoments& region) {
+  const Eigen::Vector3d mean = centre_of(region);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance_of(region));
   const Eigen::Vector3d a1 = solver.eigenvectors().col(2);
   const Eigen::Vector3d a2 = solver.eigenvectors().col(1);
-  return {label, {mean[0], mean[1], mean[2]}, std::sqrt(area / std::numbers::pi),
-          {a1[0], a1[1], a1[2]}, {a2[0], a2[1], a2[2]}};
+  return {region.label,
+          {mean[0], mean[1], mean[2]},
+          std::sqrt(region.area / std::numbers::pi),
+          {a1[0], a1[1], a1[2]},
+          {a2[0], a2[1], a2[2]}};
 }
 
-/// Rank 0 adds the shares region by region and keeps the regions of at least kRingMinCells cells;
-/// every rank gets that table. Collective.
-std::vector<RingRegion> measured_regions(const par::Comm& comm,
-                                         const std::vector<RegionShare>& shares) {
-  const auto gathered = par::gather_to_root(comm, std::span<const RegionShare>(shares));
+/// The regions of at least kRingMinCells cells, on every rank. Collective.
+std::vector<RingRegion> measured_regions(const par::Comm& comm, const geom::SurfaceCells& cells,
+                                         std::span<const std::int64_t> labels) {
   std::vector<RingRegion> table;
-  if (comm.is_root()) {
-    std::vector<RegionShare> sorted = gathered;
-    std::stable_sort(sorted.begin(), sorted.end(),
-                     [](const RegionShare& a, const RegionShare& b) { return a.label < b.label; });
-    std::vector<RegionShare> regions;
-    for (const RegionShare& share : sorted) {
-      if (regions.empty() || regions.back().label != share.label) {
-        regions.push_back(share);
-        continue;
-      }
-      RegionShare& region = regions.back();
-      region.cells += share.cells;
-      for (std::size_t k = 0; k < share.area.size(); ++k) {
-        region.area[k] += share.area[k];
-        for (int c = 0; c < 3; ++c)
-          region.first[c][k] += share.first[c][k];
-        for (int c = 0; c < 6; ++c)
-          region.second[c][k] += share.second[c][k];
-      }
-    }
-    for (const RegionShare& region : regions) {
-      const double area = par::SliceGrids::total(region.area);
-      if (region.cells < kRingMinCells || !(area > 0))
-        continue;
-      std::array<double, 3> first{};
-      std::array<double, 6> second{};
-      for (int c = 0; c < 3; ++c)
-        first[c] = par::SliceGrids::total(region.first[c]);
-      for (int c = 0; c < 6; ++c)
-        second[c] = par::SliceGrids::total(region.second[c]);
-      table.push_back(describe(region.label, area, first, second));
-    }
-  }
+  for (const RegionMoments& region : region_moments_on_root(comm, cells, labels))
+    if (region.cells >= kRingMinCells && region.area > 0)
+      table.push_back(describe(region));
   std::int64_t count = std::int64_t(table.size());
   MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm.raw);
   table.resize(std::size_t(count));
@@ -142,39 +93,8 @@ RingProfile measure_rings(const par::Comm& comm, const geom::SurfaceCells& cells
   const std::int32_t owned = cells.owned_count();
   const auto labels = label_cell_regions(comm, cells, in_region);
   const auto areas = cells.areas();
-  std::vector<double> firsts, seconds;
-  firsts.reserve(3 * std::size_t(owned));
-  seconds.reserve(6 * std::size_t(owned));
-  for (std::int32_t i = 0; i < owned; ++i) {
-    const geom::Vec3& x = cells.points()[i].position;
-    for (int c = 0; c < 3; ++c)
-      firsts.push_back(areas[i] * x[c]);
-    const auto second = second_moments(areas[i], x);
-    seconds.insert(seconds.end(), second.begin(), second.end());
-  }
   const par::SliceGrids area_grids = par::slice_grids_for(comm, areas);
-  const par::SliceGrids first_grids = par::slice_grids_for(comm, firsts);
-  const par::SliceGrids second_grids = par::slice_grids_for(comm, seconds);
-
-  std::vector<RegionShare> shares;
-  {
-    std::unordered_map<std::int64_t, std::size_t> share_of;
-    for (std::int32_t i = 0; i < owned; ++i) {
-      if (labels[i] < 0)
-        continue;
-      const auto [at, added] = share_of.try_emplace(labels[i], shares.size());
-      if (added)
-        shares.push_back({labels[i], 0, {}, {}, {}});
-      RegionShare& share = shares[at->second];
-      ++share.cells;
-      area_grids.add(areas[i], share.area);
-      for (int c = 0; c < 3; ++c)
-        first_grids.add(firsts[3 * std::size_t(i) + std::size_t(c)], share.first[c]);
-      for (int c = 0; c < 6; ++c)
-        second_grids.add(seconds[6 * std::size_t(i) + std::size_t(c)], share.second[c]);
-    }
-  }
-  const std::vector<RingRegion> table = measured_regions(comm, shares);
+  const std::vector<RingRegion> table = measured_regions(comm, cells, labels);
   std::unordered_map<std::int64_t, const RingRegion*> region_of;
   for (const RingRegion& region : table)
     region_of[region.label] = &region;
@@ -207,9 +127,8 @@ RingProfile measure_rings(const par::Comm& comm, const geom::SurfaceCells& cells
         const double angle =
             std::atan2(d.dot(geom::Vec3(region.axis2[0], region.axis2[1], region.axis2[2])),
                        d.dot(geom::Vec3(region.axis1[0], region.axis1[1], region.axis1[2])));
-        const int sector =
-            std::clamp(int((angle + std::numbers::pi) / (2 * std::numbers::pi) * kSectors), 0,
-                       kSectors - 1);
+        const int sector = std::clamp(
+            int((angle + std::numbers::pi) / (2 * std::numbers::pi) * kSectors), 0, kSectors - 1);
         sectors_of[region.label] |= 1u << sector;
       }
     }

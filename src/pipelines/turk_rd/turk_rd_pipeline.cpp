@@ -17,6 +17,7 @@
 #include "pipelines/turk_rd/pattern_frames.hpp"
 #include "pipelines/turk_rd/pattern_shapes.hpp"
 #include "pipelines/turk_rd/ring_profile.hpp"
+#include "pipelines/turk_rd/web_network.hpp"
 
 #include <mpi.h>
 
@@ -196,18 +197,27 @@ public:
   /// The ring profile the stage's `rings` section asks for. Collective.
   RingProfile rings(const par::Comm& comm, const geom::SurfaceCells& cells,
                     const FieldMap& earlier) const {
-    const auto nonzero = [](const std::vector<double>& values) {
-      std::vector<char> marks(values.size());
-      std::transform(values.begin(), values.end(), marks.begin(),
-                     [](double v) { return char(v != 0); });
-      return marks;
-    };
-    return measure_rings(comm, cells,
-                         nonzero(evaluate(stage_.ring_regions, "rings.regions", earlier)),
-                         nonzero(evaluate(stage_.ring_marks, "rings.marks", earlier)));
+    return measure_rings(comm, cells, marks(stage_.ring_regions, "rings.regions", earlier),
+                         marks(stage_.ring_marks, "rings.marks", earlier));
+  }
+
+  /// The web measure the stage's `network` section asks for. Collective.
+  WebNetwork network(const par::Comm& comm, const geom::SurfaceCells& cells,
+                     const FieldMap& earlier) const {
+    return measure_web(comm, cells, marks(stage_.network_web, "network.web", earlier));
   }
 
 private:
+  /// Where `expression` is nonzero at the owned cells.
+  std::vector<char> marks(const std::string& expression, const std::string& key,
+                          const FieldMap& earlier) const {
+    const auto values = evaluate(expression, key, earlier);
+    std::vector<char> marked(values.size());
+    std::transform(values.begin(), values.end(), marked.begin(),
+                   [](double v) { return char(v != 0); });
+    return marked;
+  }
+
   /// `expression` over the stage's species, x, y, z and the earlier stages' results ("show"'s
   /// variables) at the owned cells; `key` names it under the stage's key path in errors.
   std::vector<double> evaluate(const std::string& expression, const std::string& key,
@@ -429,6 +439,15 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                             {"centre_marked", rings.centre_marked},
                                             {"rim_marked", rings.rim_marked},
                                             {"rim_sectors_marked", rings.rim_sectors_marked}};
+    }
+    if (!stage.network_web.empty()) {
+      const WebNetwork web = stage_run.network(comm, cells, earlier);
+      stage_metrics[stage.name]["network"] = {{"web_area_fraction", web.web_area_fraction},
+                                              {"web_components", web.web_components},
+                                              {"largest_web_fraction", web.largest_web_fraction},
+                                              {"patches", web.patches},
+                                              {"mean_web_width", web.mean_web_width},
+                                              {"median_patch_diameter", web.median_patch_diameter}};
     }
     for (const auto& [name, values] : carried)
       earlier[stage.name + "_" + name] = values;

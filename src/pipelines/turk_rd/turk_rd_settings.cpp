@@ -154,6 +154,11 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
       geom::PointExpression(stage.ring_regions, show_names, rings.key_path("regions"));
       geom::PointExpression(stage.ring_marks, show_names, rings.key_path("marks"));
     }
+    if (entry.has("network")) {
+      const ConfigSection network = entry.section("network");
+      stage.network_web = network.require<std::string>("web");
+      geom::PointExpression(stage.network_web, show_names, network.key_path("web"));
+    }
     stage.initiators = read_initiators(entry.section("initiators"), stage, settings.mesh_fields);
     settings.stages.push_back(std::move(stage));
   }

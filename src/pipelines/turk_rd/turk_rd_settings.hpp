@@ -56,6 +56,9 @@ struct StageSettings {
   /// profile summary.json reports (measure_rings). Empty: not measured.
   std::string ring_regions;
   std::string ring_marks;
+  /// network: {web}: an expression over `show`'s variables whose nonzero cells are a web between
+  /// patches (Turk's giraffe), measured by measure_web. Empty: not measured.
+  std::string network_web;
   std::vector<InitiatorSettings> initiators;
   std::string key_path; ///< "turk_rd.stages.<name>"
 };
