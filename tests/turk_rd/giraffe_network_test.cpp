@@ -26,8 +26,8 @@ std::pair<nlohmann::json, int> network_of(const std::string& name, const std::st
                         << "    blotches:\n      model: {type: turing_spots, s: 0.2}\n"
                         << "      dt: 0.25\n"
                         << second;
-  const auto outcome = test::run_command(test::texsim_under_mpirun(2) + " " + config.string() +
-                                         " --quiet");
+  const auto outcome =
+      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
   EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
   std::ifstream in(dir / name / "summary.json");
   const auto stages = nlohmann::json::parse(in)["metrics"]["stages"];
@@ -42,8 +42,8 @@ TEST(TurkGiraffe, WebIsConnectedThinAndLeavesOnePatchPerSpot) {
                             "      network: {web: \"patches_a <= 3.45\"}\n");
   EXPECT_EQ(giraffe["web_components"].get<int>(), 1);
   EXPECT_GE(giraffe["patches"].get<int>(), spots * 8 / 10) << spots << " spots";
-  const double giraffe_ratio = giraffe["mean_web_width"].get<double>() /
-                               giraffe["median_patch_diameter"].get<double>();
+  const double giraffe_ratio =
+      giraffe["mean_web_width"].get<double>() / giraffe["median_patch_diameter"].get<double>();
   EXPECT_LT(giraffe_ratio, 0.45);
 
   const auto [background, _] =

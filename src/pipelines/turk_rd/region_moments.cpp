@@ -84,9 +84,9 @@ std::vector<RegionMoments> region_moments_on_root(const par::Comm& comm,
   for (std::int32_t i = 0; i < owned; ++i) {
     const double a = cells.areas()[i];
     const geom::Vec3& x = position(i);
-    moments.insert(moments.end(), {a, a * x[0], a * x[1], a * x[2], a * x[0] * x[0],
-                                   a * x[0] * x[1], a * x[0] * x[2], a * x[1] * x[1],
-                                   a * x[1] * x[2], a * x[2] * x[2]});
+    moments.insert(moments.end(),
+                   {a, a * x[0], a * x[1], a * x[2], a * x[0] * x[0], a * x[0] * x[1],
+                    a * x[0] * x[2], a * x[1] * x[1], a * x[1] * x[2], a * x[2] * x[2]});
   }
   // Per cell pair across a region's border: the pair's border length, under the owned cell's
   // label (each pair is summed once per side, as each side's region has that border).

@@ -18,8 +18,7 @@ namespace texsim::pipelines::turk_rd {
 /// The connected regions of the cells marked in `owned_marked` (one entry per owned cell): for
 /// the owned cells and then the ghosts, the smallest global cell id of the region, -1 where
 /// unmarked; the same labels on any number of ranks. Collective.
-std::vector<std::int64_t> label_cell_regions(const par::Comm& comm,
-                                             const geom::SurfaceCells& cells,
+std::vector<std::int64_t> label_cell_regions(const par::Comm& comm, const geom::SurfaceCells& cells,
                                              std::span<const char> owned_marked);
 
 struct RegionMoments {

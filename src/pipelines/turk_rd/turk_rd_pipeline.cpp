@@ -17,6 +17,7 @@
 #include "pipelines/turk_rd/pattern_frames.hpp"
 #include "pipelines/turk_rd/pattern_shapes.hpp"
 #include "pipelines/turk_rd/ring_profile.hpp"
+#include "pipelines/turk_rd/stripe_direction.hpp"
 #include "pipelines/turk_rd/web_network.hpp"
 
 #include <mpi.h>
@@ -440,6 +441,9 @@ void TurkRdPipeline::run(RunContext& ctx) {
                                             {"rim_marked", rings.rim_marked},
                                             {"rim_sectors_marked", rings.rim_sectors_marked}};
     }
+    if (stage.stripes_axis)
+      stage_metrics[stage.name]["stripes_across_axis"] =
+          stripes_across_axis(comm, cells, stage_run.shown(earlier), *stage.stripes_axis);
     if (!stage.network_web.empty()) {
       const WebNetwork web = stage_run.network(comm, cells, earlier);
       stage_metrics[stage.name]["network"] = {{"web_area_fraction", web.web_area_fraction},

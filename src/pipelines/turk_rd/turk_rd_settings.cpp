@@ -5,6 +5,7 @@
 #include "geom/point_expression.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace texsim::pipelines::turk_rd {
@@ -153,6 +154,13 @@ TurkRdSettings read_turk_rd_settings(const ConfigSection& section, std::uint64_t
       stage.ring_marks = rings.require<std::string>("marks");
       geom::PointExpression(stage.ring_regions, show_names, rings.key_path("regions"));
       geom::PointExpression(stage.ring_marks, show_names, rings.key_path("marks"));
+    }
+    if (entry.has("stripes_axis")) {
+      const auto axis = entry.require<std::vector<double>>("stripes_axis");
+      if (axis.size() != 3 || !(std::hypot(axis[0], axis[1], axis[2]) > 0) ||
+          !std::isfinite(std::hypot(axis[0], axis[1], axis[2])))
+        entry.fail("stripes_axis", "a nonzero direction [x, y, z]");
+      stage.stripes_axis = geom::Vec3(axis[0], axis[1], axis[2]);
     }
     if (entry.has("network")) {
       const ConfigSection network = entry.section("network");

@@ -59,6 +59,9 @@ struct StageSettings {
   /// network: {web}: an expression over `show`'s variables whose nonzero cells are a web between
   /// patches (Turk's giraffe), measured by measure_web. Empty: not measured.
   std::string network_web;
+  /// stripes_axis: [x, y, z]: a body axis against which summary.json measures the direction of
+  /// the shown pattern's stripes (stripes_across_axis). Unset: not measured.
+  std::optional<geom::Vec3> stripes_axis;
   std::vector<InitiatorSettings> initiators;
   std::string key_path; ///< "turk_rd.stages.<name>"
 };

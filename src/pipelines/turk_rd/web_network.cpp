@@ -16,8 +16,7 @@ WebNetwork measure_web(const par::Comm& comm, const geom::SurfaceCells& cells,
   std::vector<char> patch(web.size());
   std::transform(web.begin(), web.end(), patch.begin(), [](char w) { return char(!w); });
   const auto webs = region_moments_on_root(comm, cells, label_cell_regions(comm, cells, web));
-  const auto patches =
-      region_moments_on_root(comm, cells, label_cell_regions(comm, cells, patch));
+  const auto patches = region_moments_on_root(comm, cells, label_cell_regions(comm, cells, patch));
   double result[6] = {0, 0, 0, 0, 0, 0};
   if (comm.is_root()) {
     double web_area = 0, largest = 0, border = 0, patch_area = 0;
