@@ -26,8 +26,8 @@ double stripes_across(const std::string& name, const std::string& spread) {
                         << "      dt: 0.5\n      steps: 10000\n      stripes_axis: [1, 0, 0]\n"
                         << "      initiators:\n"
                         << "        end: {region: \"x < -0.85\", set: {g1: 1.0}}\n";
-  const auto outcome = test::run_command(test::texsim_under_mpirun(2) + " " + config.string() +
-                                         " --quiet");
+  const auto outcome =
+      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
   EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
   std::ifstream in(dir / name / "summary.json");
   return nlohmann::json::parse(in)["metrics"]["stages"]["stripes"]["stripes_across_axis"]
