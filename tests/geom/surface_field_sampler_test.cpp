@@ -10,6 +10,7 @@
 #include "geom/random_surface_points.hpp"
 #include "geom/surface_field_sampler.hpp"
 #include "support/input_error.hpp"
+#include "support/vtp_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,29 +28,12 @@ double linear_field(const Vec3& p) {
   return 1.0 + kGradient.dot(p);
 }
 
-/// An ASCII VTK XML polydata file with one point array, as ParaView writes it.
+/// An ASCII VTK XML polydata file with the point array `name` = linear_field.
 fs::path write_vtp(const fs::path& path, const TriangleMesh& mesh, const std::string& name) {
-  std::ofstream out(path);
-  out.precision(17);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\">\n<PolyData>\n"
-      << "<Piece NumberOfPoints=\"" << mesh.positions.size() << "\" NumberOfPolys=\""
-      << mesh.triangles.size() << "\">\n<PointData Scalars=\"" << name << "\">\n"
-      << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
+  std::vector<double> values;
   for (const auto& p : mesh.positions)
-    out << linear_field(p) << "\n";
-  out << "</DataArray>\n</PointData>\n<Points>\n"
-      << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.positions)
-    out << p.x() << " " << p.y() << " " << p.z() << "\n";
-  out << "</DataArray>\n</Points>\n<Polys>\n"
-      << "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& t : mesh.triangles)
-    out << t[0] << " " << t[1] << " " << t[2] << "\n";
-  out << "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t k = 1; k <= mesh.triangles.size(); ++k)
-    out << 3 * k << "\n";
-  out << "</DataArray>\n</Polys>\n</Piece>\n</PolyData>\n</VTKFile>\n";
-  return path;
+    values.push_back(linear_field(p));
+  return test::write_vtp(path, mesh, {{name, values}});
 }
 
 /// A legacy ASCII VTK polydata file with one point array.

@@ -2,13 +2,11 @@
 // the large spots' skirts (patches_a <= 3.45, summary.json network) is one connected network that
 // leaves one patch per spot and is thin against the patches, while the background around plain
 // spots (a <= 4), read as a web, is as wide as the spots are.
-#include "support/run_command.hpp"
-#include "support/test_data.hpp"
+#include "turk_run.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <string>
 
 namespace texsim {
@@ -17,20 +15,14 @@ namespace {
 /// The network figures and the first stage's spot count of a two-stage run whose second stage
 /// reads `second` (YAML lines).
 std::pair<nlohmann::json, int> network_of(const std::string& name, const std::string& second) {
-  const auto dir = test::scratch_dir("turk_rd_giraffe_network");
-  const auto config = dir / (name + ".yaml");
-  std::ofstream(config) << "pipeline: turk_rd\nseed: 6\noutput: {dir: " << (dir / name).string()
-                        << ", every: 100000}\nturk_rd:\n  mesh: {generator: icosphere, level: 4}\n"
-                        << "  cells: {count: 4000}\n  stages:\n"
-                        << "    patches: {model: {type: turing_spots, s: 0.0125}, steps: 16000}\n"
-                        << "    blotches:\n      model: {type: turing_spots, s: 0.2}\n"
-                        << "      dt: 0.25\n"
-                        << second;
-  const auto outcome =
-      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
-  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
-  std::ifstream in(dir / name / "summary.json");
-  const auto stages = nlohmann::json::parse(in)["metrics"]["stages"];
+  const auto stages =
+      test::turk_stages("turk_rd_giraffe_network", name, 6,
+                        "  mesh: {generator: icosphere, level: 4}\n  cells: {count: 4000}\n"
+                        "  stages:\n"
+                        "    patches: {model: {type: turing_spots, s: 0.0125}, steps: 16000}\n"
+                        "    blotches:\n      model: {type: turing_spots, s: 0.2}\n"
+                        "      dt: 0.25\n" +
+                            second);
   return {stages["blotches"]["network"],
           stages["patches"]["species"]["a"]["regions_above_mean"].get<int>()};
 }

@@ -6,6 +6,7 @@
 // cells are left out.
 #include "geom/generators.hpp"
 #include "pipelines/turk_rd/ring_profile.hpp"
+#include "square_cells.hpp"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -21,16 +22,7 @@ const std::array<geom::Vec3, 3> kCentres = {geom::Vec3(0.25, 0.25, 0), geom::Vec
                                             geom::Vec3(0.45, 0.72, 0)};
 constexpr double kRadius = 0.15;
 
-struct Square {
-  par::Comm comm = par::world();
-  geom::TriangleMesh mesh = geom::plane(geom::Vec3(1, 1, 0), 40);
-  geom::SurfaceCells cells;
-  Square() : cells(comm, mesh, geom::MeshTopology(mesh), 4, settings()) {}
-  static geom::SurfaceCellsSettings settings() {
-    geom::SurfaceCellsSettings s;
-    s.count = 8000;
-    return s;
-  }
+struct Square : test::SquareCells {
   /// Index of the disc holding p, or -1.
   static int disc(const geom::Vec3& p) {
     for (int d = 0; d < 3; ++d)

@@ -3,13 +3,11 @@
 // of each large spot (4 < large_a < 5.2) close into rings around the lighter centres
 // (summary.json rings: most rim sectors marked), while small spots restarted inside whole large
 // spots, the cascade's other reading, sit away from the edges.
-#include "support/run_command.hpp"
-#include "support/test_data.hpp"
+#include "turk_run.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <string>
 
 namespace texsim {
@@ -19,21 +17,14 @@ namespace {
 /// uniform state, shown and measured as `marks` inside the large spots.
 nlohmann::json rings_of(const std::string& name, const std::string& active,
                         const std::string& marks) {
-  const auto dir = test::scratch_dir("turk_rd_ring_profile");
-  const auto config = dir / (name + ".yaml");
-  std::ofstream(config) << "pipeline: turk_rd\nseed: 5\noutput: {dir: " << (dir / name).string()
-                        << ", every: 100000}\nturk_rd:\n  mesh: {generator: icosphere, level: 4}\n"
-                        << "  cells: {count: 4000}\n  stages:\n"
-                        << "    large: {model: {type: turing_spots, s: 0.004}, steps: 40000}\n"
-                        << "    rosettes:\n      model: {type: turing_spots, s: 0.05}\n"
-                        << "      dt: 0.5\n      steps: 8000\n      active_start: initial\n"
-                        << active << "      rings: {regions: \"large_a > 4\", marks: \"" << marks
-                        << "\"}\n";
-  const auto outcome =
-      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
-  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
-  std::ifstream in(dir / name / "summary.json");
-  return nlohmann::json::parse(in)["metrics"]["stages"]["rosettes"]["rings"];
+  return test::turk_stages(
+      "turk_rd_ring_profile", name, 5,
+      "  mesh: {generator: icosphere, level: 4}\n  cells: {count: 4000}\n  stages:\n"
+      "    large: {model: {type: turing_spots, s: 0.004}, steps: 40000}\n"
+      "    rosettes:\n      model: {type: turing_spots, s: 0.05}\n"
+      "      dt: 0.5\n      steps: 8000\n      active_start: initial\n" +
+          active + "      rings: {regions: \"large_a > 4\", marks: \"" + marks +
+          "\"}\n")["rosettes"]["rings"];
 }
 
 TEST(TurkRosettes, SmallSpotsInTheOuterBandOfLargeSpotsFormRings) {

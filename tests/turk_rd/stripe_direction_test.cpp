@@ -4,6 +4,7 @@
 // square leaves no cell to measure. The same value at 1, 2 and 3 ranks (reproducible sums).
 #include "geom/generators.hpp"
 #include "pipelines/turk_rd/stripe_direction.hpp"
+#include "square_cells.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,22 +15,10 @@
 namespace texsim::pipelines::turk_rd {
 namespace {
 
-struct Square {
-  par::Comm comm = par::world();
-  geom::TriangleMesh mesh = geom::plane(geom::Vec3(1, 1, 0), 40);
-  geom::SurfaceCells cells;
-  Square() : cells(comm, mesh, geom::MeshTopology(mesh), 4, settings()) {}
-  static geom::SurfaceCellsSettings settings() {
-    geom::SurfaceCellsSettings s;
-    s.count = 8000;
-    return s;
-  }
+struct Square : test::SquareCells {
   double across(const std::function<double(const geom::Vec3&)>& pattern,
                 const geom::Vec3& axis) const {
-    std::vector<double> values;
-    for (std::int32_t i = 0; i < cells.owned_count(); ++i)
-      values.push_back(pattern(cells.points()[i].position));
-    return stripes_across_axis(comm, cells, values, axis);
+    return stripes_across_axis(comm, cells, at_cells<double>(pattern), axis);
   }
 };
 

@@ -6,6 +6,7 @@
 // them, while the background around plain spots, read as a web, is as wide as the spots.
 #include "geom/generators.hpp"
 #include "pipelines/turk_rd/web_network.hpp"
+#include "square_cells.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
@@ -20,23 +21,16 @@ namespace texsim::pipelines::turk_rd {
 namespace {
 
 TEST(WebNetwork, GridOfStripsIsOneWebAroundSixteenPatches) {
-  const par::Comm comm = par::world();
-  const auto square = geom::plane(geom::Vec3(1, 1, 0), 40);
-  geom::SurfaceCellsSettings settings;
-  settings.count = 8000;
-  const geom::SurfaceCells cells(comm, square, geom::MeshTopology(square), 4, settings);
+  const test::SquareCells square;
   const auto near_line = [](double t) {
     for (const double line : {0.25, 0.5, 0.75})
       if (std::abs(t - line) < 0.02)
         return true;
     return false;
   };
-  std::vector<char> web;
-  for (std::int32_t i = 0; i < cells.owned_count(); ++i) {
-    const geom::Vec3& p = cells.points()[i].position;
-    web.push_back(near_line(p.x()) || near_line(p.y()));
-  }
-  const WebNetwork network = measure_web(comm, cells, web);
+  const auto web = square.at_cells<char>(
+      [&](const geom::Vec3& p) { return char(near_line(p.x()) || near_line(p.y())); });
+  const WebNetwork network = measure_web(square.comm, square.cells, web);
   EXPECT_EQ(network.web_components, 1);
   EXPECT_EQ(network.largest_web_fraction, 1.0);
   EXPECT_EQ(network.patches, 16);

@@ -3,35 +3,28 @@
 // across the box (summary.json stripes_across_axis near 1) when the substrate is uniform, so the
 // pattern comes from the initiators alone; with the default 0.5% random substrate the noise
 // patterns the box before the front arrives and the stripes lose their direction (near 1/2).
-#include "support/run_command.hpp"
-#include "support/test_data.hpp"
+#include "turk_run.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <string>
 
 namespace texsim {
 namespace {
 
 double stripes_across(const std::string& name, const std::string& spread) {
-  const auto dir = test::scratch_dir("turk_rd_zebra_stripes");
-  const auto config = dir / (name + ".yaml");
-  std::ofstream(config) << "pipeline: turk_rd\nseed: 8\noutput: {dir: " << (dir / name).string()
-                        << ", every: 100000}\nturk_rd:\n"
-                        << "  mesh: {generator: box, size: [2, 1, 1], cells_per_edge: 8}\n"
-                        << "  cells: {count: 3000}\n  stages:\n    stripes:\n"
-                        << "      model: {type: meinhardt_stripes" << spread << "}\n"
-                        << "      dt: 0.5\n      steps: 10000\n      stripes_axis: [1, 0, 0]\n"
-                        << "      initiators:\n"
-                        << "        end: {region: \"x < -0.85\", set: {g1: 1.0}}\n";
-  const auto outcome =
-      test::run_command(test::texsim_under_mpirun(2) + " " + config.string() + " --quiet");
-  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
-  std::ifstream in(dir / name / "summary.json");
-  return nlohmann::json::parse(in)["metrics"]["stages"]["stripes"]["stripes_across_axis"]
-      .get<double>();
+  return test::turk_stages(
+             "turk_rd_zebra_stripes", name, 8,
+             "  mesh: {generator: box, size: [2, 1, 1], cells_per_edge: 8}\n"
+             "  cells: {count: 3000}\n  stages:\n    stripes:\n"
+             "      model: {type: meinhardt_stripes" +
+                 spread +
+                 "}\n      dt: 0.5\n      steps: 10000\n"
+                 "      stripes_axis: [1, 0, 0]\n      initiators:\n"
+                 "        end: {region: \"x < -0.85\", set: {g1: 1.0}}\n")["stripes"]
+                                                                          ["stripes_across_axis"]
+                                                                              .get<double>();
 }
 
 TEST(TurkPseudoZebra, StripesFromInitiatorsRunAcrossTheBody) {
