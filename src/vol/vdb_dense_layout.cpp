@@ -52,6 +52,21 @@ template <class F> decltype(auto) with_grid_type(int channels, F&& f) {
   return f(openvdb::Vec3SGrid{});
 }
 
+/// The statistics openvdb::io::File adds by default (GridBase::addStatsMetadata and the
+/// compression), which tools read without loading the tree, for `dims` voxels, all active.
+void add_statistics(openvdb::GridBase& grid, Dims dims, std::int64_t tree_memory_bytes) {
+  grid.insertMeta(
+      openvdb::GridBase::META_FILE_COMPRESSION,
+      openvdb::StringMetadata(openvdb::io::compressionToString(openvdb::io::COMPRESS_NONE)));
+  grid.insertMeta(openvdb::GridBase::META_FILE_BBOX_MIN, openvdb::Vec3IMetadata({0, 0, 0}));
+  grid.insertMeta(openvdb::GridBase::META_FILE_BBOX_MAX,
+                  openvdb::Vec3IMetadata({dims.nx - 1, dims.ny - 1, dims.nz - 1}));
+  grid.insertMeta(openvdb::GridBase::META_FILE_MEM_BYTES,
+                  openvdb::Int64Metadata(tree_memory_bytes));
+  grid.insertMeta(openvdb::GridBase::META_FILE_VOXEL_COUNT,
+                  openvdb::Int64Metadata(std::int64_t(dims.nx) * dims.ny * dims.nz));
+}
+
 } // namespace
 
 DenseVdbLayout::DenseVdbLayout(Dims dims, int channels) : dims_(dims), channels_(channels) {
@@ -134,6 +149,7 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     for (std::size_t i = 0; i < std::size_t(leaf_count()); ++i)
       lazy.setMask(i, openvdb::io::NO_MASK_OR_INACTIVE_VALS);
     grid.insertMeta(openvdb::GridBase::META_FILE_DELAYED_LOAD, lazy);
+    add_statistics(grid, dims_, tree_memory_bytes());
     grid.writeMeta(os);
     grid.writeTransform(os);
 
@@ -146,6 +162,28 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     descriptor.writeStreamPos(positions);
     bytes.replace(positions_at, positions.str().size(), positions.str());
     return bytes;
+  });
+}
+
+std::int64_t DenseVdbLayout::tree_memory_bytes() const {
+  const auto nodes = [&](std::int64_t dim) {
+    return ceil_div(dims_.nx, dim) * ceil_div(dims_.ny, dim) * ceil_div(dims_.nz, dim);
+  };
+  return with_grid_type(channels_, [&](auto grid) {
+    using Tree = typename decltype(grid)::TreeType;
+    using TreeUpper = typename Tree::RootNodeType::ChildNodeType;
+    using TreeLower = typename TreeUpper::ChildNodeType;
+    // What openvdb::tools::memUsage counts: the tree and root objects, each internal node's
+    // value table, masks and origin, and each leaf whole.
+    const auto internal = [](auto node_tag) {
+      using Node = typename decltype(node_tag)::type;
+      return std::int64_t(Node::NUM_VALUES * sizeof(typename Node::UnionType) +
+                          2 * Node::NodeMaskType::memUsage() + sizeof(openvdb::Coord));
+    };
+    return std::int64_t(sizeof(Tree) + sizeof(typename Tree::RootNodeType)) +
+           nodes(kUpperDim) * internal(std::type_identity<TreeUpper>{}) +
+           nodes(kLowerDim) * internal(std::type_identity<TreeLower>{}) +
+           leaf_count() * std::int64_t(typename Tree::LeafNodeType().memUsage());
   });
 }
 

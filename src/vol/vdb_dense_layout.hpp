@@ -7,7 +7,7 @@
 /// 8^3 block that meets the volume, every voxel of the volume active and the rest inactive and 0,
 /// no tiles, written uncompressed (COMPRESS_NONE). Every leaf record then has the same size and
 /// its place in the file follows from its block coordinates alone. The bytes are those
-/// openvdb::io::File writes for that tree with compression off and grid statistics off
+/// openvdb::io::File writes for that tree with compression off and its default grid statistics
 /// (tests/vol/parallel_vdb_writer_test.cpp compares them), except the UUID, which here is given.
 ///
 /// File: header | grid head (descriptor, metadata, transform) | topology | leaf records.
@@ -46,6 +46,9 @@ public:
   /// texsim's dense-grid metadata (vol/vdb_io.hpp) and `uuid` (36 characters). Its stream
   /// positions say the topology follows at once and the leaf records after it.
   std::string head(const std::string& grid_name, std::string_view uuid) const;
+  /// The bytes OpenVDB reports the loaded tree uses (openvdb::tools::memUsage), stored as the
+  /// grid's `file_mem_bytes` statistic.
+  std::int64_t tree_memory_bytes() const;
   /// Bytes of the topology (the tree's structure without leaf values).
   std::uint64_t topology_bytes() const;
   /// Emits the topology to `sink` a node of 128^3 voxels at a time, so its writer never holds

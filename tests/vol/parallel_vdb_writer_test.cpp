@@ -91,7 +91,6 @@ template <class Grid> void write_reference(const fs::path& path, const ChannelGr
   describe_dense_grid(*vdb, d, {1.0, 1.0, 1.0}, {0.0, 0.0, 0.0}, "g");
   openvdb::io::File file(path.string());
   file.setCompression(openvdb::io::COMPRESS_NONE);
-  file.setGridStatsMetadataEnabled(false);
   file.write(openvdb::GridCPtrVec{vdb});
   file.close();
 }
@@ -170,7 +169,7 @@ TEST(ParallelVdb, PlanesThatDoNotTileAreRefusedOnEveryRankAndTheFileKept) {
   }
 }
 
-TEST(DenseVdbLayout, LeafOrderAndTopologyAreOpenVdbsBeyondOneUpperNode) {
+TEST(DenseVdbLayout, LeafOrderTopologyAndMemoryAreOpenVdbsBeyondOneUpperNode) {
   initialize_openvdb();
   for (const Dims dims : {Dims{4100, 1, 9}, Dims{9, 4105, 3}, Dims{3, 9, 4200}}) {
     openvdb::FloatTree tree(0.0f);
@@ -193,6 +192,11 @@ TEST(DenseVdbLayout, LeafOrderAndTopologyAreOpenVdbsBeyondOneUpperNode) {
     layout.write_topology([&](std::string_view bytes) { ours += bytes; });
     EXPECT_EQ(ours.size(), layout.topology_bytes());
     EXPECT_TRUE(ours == reference.str()) << dims.nx << " x " << dims.ny << " x " << dims.nz;
+    EXPECT_EQ(layout.tree_memory_bytes(), std::int64_t(tree.memUsage()));
+    EXPECT_EQ(
+        DenseVdbLayout(dims, 3).tree_memory_bytes(),
+        std::int64_t(
+            openvdb::Vec3STree(tree, openvdb::Vec3s(0.0f), openvdb::TopologyCopy()).memUsage()));
   }
 }
 
