@@ -120,11 +120,11 @@ struct LocalVertices {
 
 LocalVertices local_vertices(const DistributedMesh& mesh) {
   LocalVertices local;
+  // The rank's mesh is its part, numbered locally (owned vertices first).
   for (std::int32_t v = 0; v < mesh.local_count(); ++v) {
-    const std::int32_t global = mesh.global_index(v);
-    local.ids.push_back(mesh.input_id()[global]);
+    local.ids.push_back(mesh.input_id()[std::size_t(v)]);
     for (int axis = 0; axis < 3; ++axis)
-      local.xyz.push_back(mesh.mesh().positions[global][axis]);
+      local.xyz.push_back(mesh.mesh().positions[std::size_t(v)][axis]);
   }
   return local;
 }
@@ -370,7 +370,7 @@ public:
     double* values = nullptr;
     TEXSIM_PETSC_CALL(VecGetArray(harmonic_, &values));
     for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
-      const double z = mesh.mesh().positions[mesh.owned_begin() + v].z();
+      const double z = mesh.mesh().positions[std::size_t(v)].z(); // owned vertices come first
       values[v] = 3.0 * z * z - 1.0;
     }
     TEXSIM_PETSC_CALL(VecRestoreArray(harmonic_, &values));
