@@ -13,6 +13,7 @@
 #include <climits>
 #include <cstddef>
 #include <cstdint>
+#include <numeric>
 
 namespace texsim::vol {
 namespace {
@@ -73,8 +74,8 @@ struct PlaneTiling {
 
 void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path, Dims dims,
                         int channels, int z_first, std::vector<float> planes,
-                        const std::string& grid_name) {
-  const DenseVdbLayout layout(dims, channels);
+                        const std::string& grid_name, VdbCompression compression) {
+  const DenseVdbLayout layout(dims, channels, compression);
   const std::size_t plane_values =
       std::size_t(dims.nx) * std::size_t(dims.ny) * std::size_t(channels);
   TEXSIM_VERIFY(plane_values <= std::size_t(INT_MAX) && planes.size() % plane_values == 0,
@@ -117,28 +118,14 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
   const int first_layer = owned_first / kLeafDim;
   const int layers = owned_planes == 0 ? 0 : (owned_planes + kLeafDim - 1) / kLeafDim;
 
-  // Rank 0 makes the head now, for its size; the UUID (a fixed 36 characters) is put in once
-  // the leaves are written.
-  std::string head = comm.is_root() ? layout.head(grid_name, std::string(36, '0')) : "";
-  std::uint64_t head_bytes = head.size();
-  MPI_Bcast(&head_bytes, 1, MPI_UINT64_T, 0, comm.raw);
-  const std::uint64_t leaves_at = head_bytes + layout.topology_bytes();
-  const std::size_t record_bytes = layout.leaf_record_bytes();
-  const std::size_t leaf_values =
-      std::size_t(kLeafDim * kLeafDim * kLeafDim) * std::size_t(channels);
-  const std::size_t values_at = record_bytes - leaf_values * sizeof(float);
-
-  par::ParallelFile file(comm, path);
-  int calls = (layers + kLayersPerCall - 1) / kLayersPerCall;
-  MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_INT, MPI_MAX, comm.raw);
   const auto [bx_count, by_count, bz_count] = layout.leaf_blocks();
-  std::uint64_t checksum = 0;
-  for (int call = 0; call < calls; ++call) {
-    // This call's leaves in file order, so neighbours in the file merge into one run.
-    struct Leaf {
-      std::int64_t order;
-      std::array<int, 3> block;
-    };
+  // This rank's leaves of `call` (kLayersPerCall leaf layers) in file order, so neighbours in the
+  // file merge into one run.
+  struct Leaf {
+    std::int64_t order;
+    std::array<int, 3> block;
+  };
+  const auto leaves_of_call = [&](int call) {
     std::vector<Leaf> leaves;
     for (int layer = call * kLayersPerCall; layer < std::min(layers, (call + 1) * kLayersPerCall);
          ++layer)
@@ -149,29 +136,123 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
         }
     std::sort(leaves.begin(), leaves.end(),
               [](const Leaf& a, const Leaf& b) { return a.order < b.order; });
-    std::vector<std::byte> records(leaves.size() * record_bytes);
-    std::uint64_t call_checksum = 0;
-#pragma omp parallel for reduction(+ : call_checksum) schedule(static)
+    return leaves;
+  };
+  // The leaves' records one after the other (OpenVDB compresses each on its own), with each
+  // record's size and its stored-value bytes.
+  struct Records {
+    std::string bytes;
+    std::vector<std::size_t> sizes;
+    std::vector<std::int64_t> value_bytes;
+  };
+  const auto make_records = [&](const std::vector<Leaf>& leaves) {
+    std::vector<std::string> each(leaves.size());
+    Records records{"", std::vector<std::size_t>(leaves.size()),
+                    std::vector<std::int64_t>(leaves.size())};
+#pragma omp parallel for schedule(dynamic, 16)
     for (std::size_t i = 0; i < leaves.size(); ++i) {
-      const Leaf& leaf = leaves[i];
-      const int z0 = leaf.block[2] * kLeafDim;
+      const int z0 = leaves[i].block[2] * kLeafDim;
       const int depth = std::min(kLeafDim, dims.nz - z0);
       const std::span<const float> layer(planes.data() +
                                              std::size_t(z0 - owned_first) * plane_values,
                                          std::size_t(depth) * plane_values);
-      const std::span<std::byte> record(records.data() + i * record_bytes, record_bytes);
-      layout.write_leaf_record(record, leaf.block, layer);
-      call_checksum += par::checksum_block(record.data() + values_at, leaf_values, sizeof(float),
-                                           std::uint64_t(leaf.order) * leaf_values);
+      records.value_bytes[i] = layout.append_leaf_record(each[i], leaves[i].block, layer);
+      records.sizes[i] = each[i].size();
     }
-    checksum += call_checksum;
+    for (std::string& record : each) {
+      records.bytes += record;
+      record = {};
+    }
+    return records;
+  };
+  int calls = (layers + kLayersPerCall - 1) / kLayersPerCall;
+  MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_INT, MPI_MAX, comm.raw);
+
+  // Where each of this rank's leaves starts in the file, in the order the calls visit them, and
+  // rank 0's head (its UUID, a fixed 36 characters, is put in once the leaves are written).
+  std::vector<std::uint64_t> leaf_at;
+  std::string head;
+  std::uint64_t leaves_at = 0;
+  if (layout.compression() == VdbCompression::none) {
+    const std::uint64_t record_bytes = layout.uncompressed_leaf_record_bytes();
+    if (comm.is_root())
+      head = layout.head(grid_name, std::string(36, '0'), {},
+                         std::uint64_t(layout.leaf_count()) * record_bytes);
+    std::uint64_t head_bytes = head.size();
+    MPI_Bcast(&head_bytes, 1, MPI_UINT64_T, 0, comm.raw);
+    leaves_at = head_bytes + layout.topology_bytes();
+    for (int call = 0; call < calls; ++call)
+      for (const Leaf& leaf : leaves_of_call(call))
+        leaf_at.push_back(leaves_at + std::uint64_t(leaf.order) * record_bytes);
+  } else {
+    // Compressed records differ in size: every rank measures its own (compressing them once
+    // here and again when writing, so no rank holds more than a call's records), rank 0 lays
+    // them out in file order and lists them in the head, and returns each rank its offsets. Rank
+    // 0 holds three integers a leaf (a 1024^3 volume has 2 M leaves: 48 MB), as the delayed-load
+    // table it writes needs every leaf's size.
+    std::vector<std::int64_t> measured; // (order, record bytes, value bytes) per leaf
+    for (int call = 0; call < calls; ++call) {
+      const std::vector<Leaf> leaves = leaves_of_call(call);
+      const Records records = make_records(leaves);
+      for (std::size_t i = 0; i < leaves.size(); ++i)
+        measured.insert(measured.end(),
+                        {leaves[i].order, std::int64_t(records.sizes[i]), records.value_bytes[i]});
+    }
+    const int sent = static_cast<int>(measured.size());
+    std::vector<int> counts(std::size_t(comm.size)), displacements(std::size_t(comm.size));
+    MPI_Gather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw);
+    std::vector<std::int64_t> all;
+    if (comm.is_root()) {
+      std::exclusive_scan(counts.begin(), counts.end(), displacements.begin(), 0);
+      all.resize(std::size_t(displacements.back() + counts.back()));
+    }
+    MPI_Gatherv(measured.data(), sent, MPI_INT64_T, all.data(), counts.data(), displacements.data(),
+                MPI_INT64_T, 0, comm.raw);
+    std::vector<std::int64_t> offsets; // per gathered leaf, in the ranks' own orders
+    if (comm.is_root()) {
+      const auto leaves = std::size_t(layout.leaf_count());
+      std::vector<std::int64_t> record_bytes(leaves), value_bytes(leaves);
+      for (std::size_t i = 0; i < all.size(); i += 3) {
+        record_bytes[std::size_t(all[i])] = all[i + 1];
+        value_bytes[std::size_t(all[i])] = all[i + 2];
+      }
+      std::vector<std::int64_t> starts(leaves);
+      std::exclusive_scan(record_bytes.begin(), record_bytes.end(), starts.begin(),
+                          std::int64_t(0));
+      head = layout.head(grid_name, std::string(36, '0'), value_bytes,
+                         std::uint64_t(starts.back() + record_bytes.back()));
+      leaves_at = head.size() + layout.topology_bytes();
+      for (std::size_t i = 0; i < all.size(); i += 3)
+        offsets.push_back(std::int64_t(leaves_at) + starts[std::size_t(all[i])]);
+      for (auto& c : counts)
+        c /= 3;
+      for (auto& d : displacements)
+        d /= 3;
+    }
+    MPI_Bcast(&leaves_at, 1, MPI_UINT64_T, 0, comm.raw);
+    leaf_at.resize(measured.size() / 3);
+    MPI_Scatterv(offsets.data(), counts.data(), displacements.data(), MPI_INT64_T, leaf_at.data(),
+                 static_cast<int>(leaf_at.size()), MPI_INT64_T, 0, comm.raw);
+  }
+
+  par::ParallelFile file(comm, path);
+  std::uint64_t checksum = 0;
+  std::size_t next = 0; // index into leaf_at
+  for (int call = 0; call < calls; ++call) {
+    const std::vector<Leaf> leaves = leaves_of_call(call);
+    const Records records = make_records(leaves);
     std::vector<par::ByteRun> runs;
-    for (std::size_t i = 0; i < leaves.size(); ++i) {
-      const std::span<const std::byte> bytes(records.data() + i * record_bytes, record_bytes);
-      if (i > 0 && leaves[i].order == leaves[i - 1].order + 1)
-        runs.back().bytes = {runs.back().bytes.data(), runs.back().bytes.size() + record_bytes};
+    const std::byte* record = reinterpret_cast<const std::byte*>(records.bytes.data());
+    for (std::size_t i = 0; i < leaves.size(); ++i, ++next) {
+      const std::span<const std::byte> bytes(record, records.sizes[i]);
+      record += records.sizes[i];
+      // Every byte of the leaf records counts at its place in the file: the same checksum for
+      // any split.
+      checksum += par::checksum_block(bytes.data(), bytes.size(), 1, leaf_at[next]);
+      if (!runs.empty() && runs.back().offset + runs.back().bytes.size() == leaf_at[next])
+        runs.back().bytes = {runs.back().bytes.data(), runs.back().bytes.size() + bytes.size()};
       else
-        runs.push_back({leaves_at + std::uint64_t(leaves[i].order) * record_bytes, bytes});
+        runs.push_back({leaf_at[next], bytes});
     }
     file.write_runs(runs);
   }
@@ -188,7 +269,7 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
       at += bytes.size();
     });
     TEXSIM_VERIFY(at == leaves_at, path.string() << ": topology of " << at - head.size()
-                                                 << " bytes, expected " << layout.topology_bytes());
+                                                 << " bytes, expected " << leaves_at - head.size());
   });
   file.commit();
 }

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <limits>
 #include <sstream>
-#include <streambuf>
 #include <type_traits>
 #include <vector>
 
@@ -31,16 +30,6 @@ std::int64_t ceil_div(std::int64_t a, std::int64_t b) {
   return (a + b - 1) / b;
 }
 
-/// A stream's buffer over a caller's byte span, so OpenVDB writes a leaf straight into place.
-class SpanBuffer : public std::streambuf {
-public:
-  explicit SpanBuffer(std::span<std::byte> bytes) {
-    char* begin = reinterpret_cast<char*>(bytes.data());
-    setp(begin, begin + bytes.size());
-  }
-  std::size_t written() const { return static_cast<std::size_t>(pptr() - pbase()); }
-};
-
 void write_pod(std::ostream& os, const auto& value) {
   os.write(reinterpret_cast<const char*>(&value), sizeof(value));
 }
@@ -54,10 +43,10 @@ template <class F> decltype(auto) with_grid_type(int channels, F&& f) {
 
 /// The statistics openvdb::io::File adds by default (GridBase::addStatsMetadata and the
 /// compression), which tools read without loading the tree, for `dims` voxels, all active.
-void add_statistics(openvdb::GridBase& grid, Dims dims, std::int64_t tree_memory_bytes) {
-  grid.insertMeta(
-      openvdb::GridBase::META_FILE_COMPRESSION,
-      openvdb::StringMetadata(openvdb::io::compressionToString(openvdb::io::COMPRESS_NONE)));
+void add_statistics(openvdb::GridBase& grid, Dims dims, std::int64_t tree_memory_bytes,
+                    std::uint32_t compression_flags) {
+  grid.insertMeta(openvdb::GridBase::META_FILE_COMPRESSION,
+                  openvdb::StringMetadata(openvdb::io::compressionToString(compression_flags)));
   grid.insertMeta(openvdb::GridBase::META_FILE_BBOX_MIN, openvdb::Vec3IMetadata({0, 0, 0}));
   grid.insertMeta(openvdb::GridBase::META_FILE_BBOX_MAX,
                   openvdb::Vec3IMetadata({dims.nx - 1, dims.ny - 1, dims.nz - 1}));
@@ -69,7 +58,8 @@ void add_statistics(openvdb::GridBase& grid, Dims dims, std::int64_t tree_memory
 
 } // namespace
 
-DenseVdbLayout::DenseVdbLayout(Dims dims, int channels) : dims_(dims), channels_(channels) {
+DenseVdbLayout::DenseVdbLayout(Dims dims, int channels, VdbCompression compression)
+    : dims_(dims), channels_(channels), compression_(compression) {
   TEXSIM_VERIFY(channels == 1 || channels == 3,
                 "a .vdb grid of " << channels << " channels, expected 1 or 3");
   TEXSIM_VERIFY(dims.nx > 0 && dims.ny > 0 && dims.nz > 0,
@@ -83,7 +73,19 @@ std::int64_t DenseVdbLayout::leaf_count() const {
   return std::int64_t(blocks_[0]) * blocks_[1] * blocks_[2];
 }
 
-std::size_t DenseVdbLayout::leaf_record_bytes() const {
+std::uint32_t DenseVdbLayout::openvdb_flags() const {
+  switch (compression_) {
+  case VdbCompression::zip:
+    return openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK;
+  case VdbCompression::blosc:
+    return openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK;
+  case VdbCompression::none:
+    break;
+  }
+  return openvdb::io::COMPRESS_NONE;
+}
+
+std::size_t DenseVdbLayout::uncompressed_leaf_record_bytes() const {
   return openvdb::util::NodeMask<3>::memUsage() + 1 +
          std::size_t(kLeafSide * kLeafSide * kLeafSide) * sizeof(float) * std::size_t(channels_);
 }
@@ -118,8 +120,14 @@ std::int64_t DenseVdbLayout::leaf_order(std::array<int, 3> block) const {
   return order;
 }
 
-std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view uuid) const {
+std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view uuid,
+                                 std::span<const std::int64_t> value_bytes,
+                                 std::uint64_t records_bytes) const {
   TEXSIM_VERIFY(uuid.size() == 36, "a .vdb UUID has 36 characters, got '" << uuid << "'");
+  const bool compressed = compression_ != VdbCompression::none;
+  TEXSIM_VERIFY(!compressed || std::int64_t(value_bytes.size()) == leaf_count(),
+                "a compressed .vdb head lists " << leaf_count() << " leaf sizes, got "
+                                                << value_bytes.size());
   initialize_openvdb();
   std::ostringstream os(std::ios::binary);
   // The file header, as openvdb::io::Archive::writeHeader writes it.
@@ -141,15 +149,21 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     // overwritten once it is known, as openvdb::io::Archive::writeGrid seeks back to do.
     descriptor.writeStreamPos(os);
     const auto grid_at = static_cast<std::int64_t>(os.tellp());
-    write_pod(os, std::uint32_t(openvdb::io::COMPRESS_NONE));
+    write_pod(os, openvdb_flags());
     describe_dense_grid(grid, dims_, {1.0, 1.0, 1.0}, {0.0, 0.0, 0.0}, grid_name);
-    // Every leaf is stored whole, so none needs a selection mask when loaded lazily.
+    // Every leaf's inactive voxels hold the background, so none needs a selection mask when
+    // loaded lazily; a compressed leaf's stored size lets a reader skip it.
     openvdb::io::DelayedLoadMetadata lazy;
     lazy.resizeMask(static_cast<std::size_t>(leaf_count()));
-    for (std::size_t i = 0; i < std::size_t(leaf_count()); ++i)
+    if (compressed)
+      lazy.resizeCompressedSize(static_cast<std::size_t>(leaf_count()));
+    for (std::size_t i = 0; i < std::size_t(leaf_count()); ++i) {
       lazy.setMask(i, openvdb::io::NO_MASK_OR_INACTIVE_VALS);
+      if (compressed)
+        lazy.setCompressedSize(i, value_bytes[i]);
+    }
     grid.insertMeta(openvdb::GridBase::META_FILE_DELAYED_LOAD, lazy);
-    add_statistics(grid, dims_, tree_memory_bytes());
+    add_statistics(grid, dims_, tree_memory_bytes(), openvdb_flags());
     grid.writeMeta(os);
     grid.writeTransform(os);
 
@@ -157,7 +171,7 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     const auto block_at = static_cast<std::int64_t>(bytes.size() + topology_bytes());
     descriptor.setGridPos(grid_at);
     descriptor.setBlockPos(block_at);
-    descriptor.setEndPos(block_at + leaf_count() * static_cast<std::int64_t>(leaf_record_bytes()));
+    descriptor.setEndPos(block_at + static_cast<std::int64_t>(records_bytes));
     std::ostringstream positions(std::ios::binary);
     descriptor.writeStreamPos(positions);
     bytes.replace(positions_at, positions.str().size(), positions.str());
@@ -188,6 +202,12 @@ std::int64_t DenseVdbLayout::tree_memory_bytes() const {
 }
 
 std::uint64_t DenseVdbLayout::topology_bytes() const {
+  if (compression_ != VdbCompression::none) {
+    // Compressed internal-node values have no closed-form size: count them as written.
+    std::uint64_t bytes = 0;
+    write_topology([&](std::string_view part) { bytes += part.size(); });
+    return bytes;
+  }
   const std::uint64_t value = sizeof(float) * std::uint64_t(channels_);
   const auto nodes = [&](std::int64_t dim) {
     return std::uint64_t(ceil_div(dims_.nx, dim) * ceil_div(dims_.ny, dim) *
@@ -205,7 +225,7 @@ std::uint64_t DenseVdbLayout::topology_bytes() const {
 void DenseVdbLayout::write_topology(const std::function<void(std::string_view)>& sink) const {
   const std::array<std::int64_t, 3> n{dims_.nx, dims_.ny, dims_.nz};
   std::ostringstream os(std::ios::binary);
-  openvdb::io::setDataCompression(os, openvdb::io::COMPRESS_NONE);
+  openvdb::io::setDataCompression(os, openvdb_flags());
   const auto emit = [&] {
     sink(os.view());
     os.str("");
@@ -272,10 +292,8 @@ void DenseVdbLayout::write_topology(const std::function<void(std::string_view)>&
   emit();
 }
 
-void DenseVdbLayout::write_leaf_record(std::span<std::byte> record, std::array<int, 3> block,
-                                       std::span<const float> layer) const {
-  TEXSIM_VERIFY(record.size() == leaf_record_bytes(),
-                "a leaf record of " << record.size() << " bytes, expected " << leaf_record_bytes());
+std::int64_t DenseVdbLayout::append_leaf_record(std::string& record, std::array<int, 3> block,
+                                                std::span<const float> layer) const {
   const int x0 = block[0] * kLeafSide, y0 = block[1] * kLeafSide, z0 = block[2] * kLeafSide;
   const int dx = std::min<int>(kLeafSide, dims_.nx - x0),
             dy = std::min<int>(kLeafSide, dims_.ny - y0),
@@ -284,10 +302,9 @@ void DenseVdbLayout::write_leaf_record(std::span<std::byte> record, std::array<i
   TEXSIM_VERIFY(layer.size() == plane * std::size_t(dz) * std::size_t(channels_),
                 "leaf layer " << block[2] << ": " << layer.size() << " values, expected "
                               << plane * std::size_t(dz) * std::size_t(channels_));
-  SpanBuffer buffer(record);
-  std::ostream os(&buffer);
-  openvdb::io::setDataCompression(os, openvdb::io::COMPRESS_NONE);
-  with_grid_type(channels_, [&](auto grid) {
+  std::ostringstream os(std::ios::binary);
+  openvdb::io::setDataCompression(os, openvdb_flags());
+  const std::int64_t value_bytes = with_grid_type(channels_, [&](auto grid) {
     using Leaf = typename decltype(grid)::TreeType::LeafNodeType;
     using Value = typename Leaf::ValueType;
     Leaf leaf(openvdb::Coord(x0, y0, z0), openvdb::zeroVal<Value>(), false);
@@ -306,11 +323,20 @@ void DenseVdbLayout::write_leaf_record(std::span<std::byte> record, std::array<i
           leaf.setValueOn(Leaf::coordToOffset(openvdb::Coord(x, y, z)), value);
         }
     leaf.writeBuffers(os, false);
-    return 0;
+    if (compression_ == VdbCompression::none)
+      return std::int64_t(0);
+    // The delayed-load size as openvdb::io::Archive lists it: the compressed values and their
+    // 8-byte count.
+    const openvdb::io::MaskCompress<Value, typename Leaf::NodeMaskType> mask(
+        leaf.valueMask(), typename Leaf::NodeMaskType(), leaf.buffer().data(),
+        openvdb::zeroVal<Value>());
+    return std::int64_t(openvdb::io::writeCompressedValuesSize(leaf.buffer().data(), Leaf::SIZE,
+                                                               leaf.valueMask(), mask.metadata,
+                                                               false, openvdb_flags())) +
+           std::int64_t(sizeof(std::int64_t));
   });
-  TEXSIM_VERIFY(buffer.written() == record.size(), "OpenVDB wrote a leaf of " << buffer.written()
-                                                                              << " bytes, expected "
-                                                                              << record.size());
+  record += os.view();
+  return value_bytes;
 }
 
 } // namespace texsim::vol

@@ -251,7 +251,7 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   // The output's stages are timed apart for the scaling model (scripts/bench scale).
   for (const auto& path :
        write_volume_and_sections(comm, run.output_dir, *slab, settings_.dims, space.colours,
-                                 settings_.cross_sections, ctx.timers))
+                                 settings_.cross_sections, settings_.vdb_compression, ctx.timers))
     report.output(path.string());
   report.metric("cross_section_sets", static_cast<int>(settings_.cross_sections.size()) + 1);
   report.metric("result_dims", {settings_.dims[0], settings_.dims[1], settings_.dims[2]});

@@ -91,6 +91,11 @@ SolidSynthesisSettings read_solid_synthesis_settings(const ConfigSection& sectio
                                          "] (applied to X, Y and Z)");
     settings.cross_sections.push_back(static_cast<int>(p));
   }
+  settings.vdb_compression =
+      section.choice<vol::VdbCompression>("vdb_compression", settings.vdb_compression,
+                                          {{"blosc", vol::VdbCompression::blosc},
+                                           {"zip", vol::VdbCompression::zip},
+                                           {"none", vol::VdbCompression::none}});
   return settings;
 }
 

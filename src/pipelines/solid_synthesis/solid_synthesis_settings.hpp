@@ -7,6 +7,7 @@
 #include "pipelines/solid_synthesis/exemplar_source.hpp"
 #include "pipelines/solid_synthesis/pyramid_synthesizer.hpp"
 #include "pipelines/solid_synthesis/similarity_sets.hpp"
+#include "vol/vdb_dense_layout.hpp"
 
 #include <array>
 #include <filesystem>
@@ -32,6 +33,9 @@ struct SolidSynthesisSettings {
   std::optional<FieldSettings> field; ///< absent: isometric synthesis
   /// X = Y = Z positions of the PNG cross-sections (the thesis' figures use 126, 80 and 64).
   std::vector<int> cross_sections;
+  /// How solid_synthesis.vdb stores its leaves (vdb_compression: blosc, OpenVDB's default; zip;
+  /// none).
+  vol::VdbCompression vdb_compression = vol::VdbCompression::blosc;
   /// Every stride-th voxel along each axis enters the neighbourhood-error metric (0: automatic,
   /// about 32^3 samples).
   int metric_stride = 0;

@@ -39,7 +39,7 @@ std::vector<std::filesystem::path>
 write_volume_and_sections(const par::Comm& comm, const std::filesystem::path& dir,
                           const CoordinateSlab& slab, const std::array<int, 3>& dims,
                           const vol::ChannelGrid& exemplar, const std::vector<int>& cross_sections,
-                          StageTimers& timers) {
+                          vol::VdbCompression compression, StageTimers& timers) {
   TEXSIM_VERIFY(dims[0] <= slab.size() && dims[1] <= slab.size() && dims[2] <= slab.size(),
                 "crop box larger than the synthesized level");
   const PlaneRange planes = reported_planes(comm, slab, dims[2]);
@@ -65,7 +65,7 @@ write_volume_and_sections(const par::Comm& comm, const std::filesystem::path& di
     // depend on the rank count).
     auto stage = timers.scope("vdb");
     vol::write_parallel_vdb(comm, dir / "solid_synthesis.vdb", grid, channels, planes.begin,
-                            std::move(colours), channels == 1 ? "density" : "colour");
+                            std::move(colours), channels == 1 ? "density" : "colour", compression);
   }
   {
     // Each pixel comes from the one rank that owns its plane and is 0 elsewhere: the sum is
