@@ -187,9 +187,9 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
   } else {
     // Compressed records differ in size: every rank measures its own (compressing them once
     // here and again when writing, so no rank holds more than a call's records), rank 0 lays
-    // them out in file order and lists them in the head, and returns each rank its offsets. Rank
-    // 0 holds three integers a leaf (a 1024^3 volume has 2 M leaves: 48 MB), as the delayed-load
-    // table it writes needs every leaf's size.
+    // them out in file order and lists them in the head, and returns each rank its offsets. While
+    // it does, rank 0 holds six 8-byte integers a leaf (a 1024^3 volume has 2 M leaves: 96 MB),
+    // as the delayed-load table it writes needs every leaf's size.
     std::vector<std::int64_t> measured; // (order, record bytes, value bytes) per leaf
     for (int call = 0; call < calls; ++call) {
       const std::vector<Leaf> leaves = leaves_of_call(call);
