@@ -171,19 +171,16 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
   // Where each of this rank's leaves starts in the file, in the order the calls visit them, and
   // rank 0's head (its UUID, a fixed 36 characters, is put in once the leaves are written).
   std::vector<std::uint64_t> leaf_at;
-  std::string head;
-  std::uint64_t leaves_at = 0;
+  VdbHead head;
   if (layout.compression() == VdbCompression::none) {
     const std::uint64_t record_bytes = layout.uncompressed_leaf_record_bytes();
     if (comm.is_root())
       head = layout.head(grid_name, std::string(36, '0'), {},
                          std::uint64_t(layout.leaf_count()) * record_bytes);
-    std::uint64_t head_bytes = head.size();
-    MPI_Bcast(&head_bytes, 1, MPI_UINT64_T, 0, comm.raw);
-    leaves_at = head_bytes + layout.topology_bytes();
+    MPI_Bcast(&head.leaves_at, 1, MPI_UINT64_T, 0, comm.raw);
     for (int call = 0; call < calls; ++call)
       for (const Leaf& leaf : leaves_of_call(call))
-        leaf_at.push_back(leaves_at + std::uint64_t(leaf.order) * record_bytes);
+        leaf_at.push_back(head.leaves_at + std::uint64_t(leaf.order) * record_bytes);
   } else {
     // Compressed records differ in size: every rank measures its own (compressing them once
     // here and again when writing, so no rank holds more than a call's records), rank 0 lays
@@ -221,15 +218,13 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
                           std::int64_t(0));
       head = layout.head(grid_name, std::string(36, '0'), value_bytes,
                          std::uint64_t(starts.back() + record_bytes.back()));
-      leaves_at = head.size() + layout.topology_bytes();
       for (std::size_t i = 0; i < all.size(); i += 3)
-        offsets.push_back(std::int64_t(leaves_at) + starts[std::size_t(all[i])]);
+        offsets.push_back(std::int64_t(head.leaves_at) + starts[std::size_t(all[i])]);
       for (auto& c : counts)
         c /= 3;
       for (auto& d : displacements)
         d /= 3;
     }
-    MPI_Bcast(&leaves_at, 1, MPI_UINT64_T, 0, comm.raw);
     leaf_at.resize(measured.size() / 3);
     MPI_Scatterv(offsets.data(), counts.data(), displacements.data(), MPI_INT64_T, leaf_at.data(),
                  static_cast<int>(leaf_at.size()), MPI_INT64_T, 0, comm.raw);
@@ -261,15 +256,16 @@ void write_parallel_vdb(const par::Comm& comm, const std::filesystem::path& path
     if (!comm.is_root())
       return;
     const std::string uuid = content_uuid(checksum, dims.count());
-    head.replace(DenseVdbLayout::kUuidAt, uuid.size(), uuid);
-    file.write_at(0, std::as_bytes(std::span(head)));
-    std::uint64_t at = head.size();
+    head.bytes.replace(DenseVdbLayout::kUuidAt, uuid.size(), uuid);
+    file.write_at(0, std::as_bytes(std::span(head.bytes)));
+    std::uint64_t at = head.bytes.size();
     layout.write_topology([&](std::string_view bytes) {
       file.write_at(at, std::as_bytes(std::span(bytes)));
       at += bytes.size();
     });
-    TEXSIM_VERIFY(at == leaves_at, path.string() << ": topology of " << at - head.size()
-                                                 << " bytes, expected " << leaves_at - head.size());
+    TEXSIM_VERIFY(at == head.leaves_at, path.string() << ": topology of " << at - head.bytes.size()
+                                                      << " bytes, expected "
+                                                      << head.leaves_at - head.bytes.size());
   });
   file.commit();
 }

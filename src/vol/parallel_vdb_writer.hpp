@@ -11,9 +11,8 @@
 ///
 /// No rank holds more than its planes, 7 more and the records of 32 planes (rank 0 also six
 /// 8-byte integers a leaf while laying out compressed leaves), and no message carries more than 7
-/// planes. The file's bytes
-/// do not depend on the rank count: its UUID is derived from the leaf records
-/// (par/positional_checksum.hpp), so the same volume gives the same file. read_vdb
+/// planes. The file's bytes do not depend on the rank count: its UUID is derived from the leaf
+/// records (par/positional_checksum.hpp), so the same volume gives the same file. read_vdb
 /// (vol/vdb_io.hpp) and OpenVDB's own reader (ParaView, Houdini) read it.
 #include "par/comm.hpp"
 #include "vol/dense_grid.hpp"

@@ -120,9 +120,9 @@ std::int64_t DenseVdbLayout::leaf_order(std::array<int, 3> block) const {
   return order;
 }
 
-std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view uuid,
-                                 std::span<const std::int64_t> value_bytes,
-                                 std::uint64_t records_bytes) const {
+VdbHead DenseVdbLayout::head(const std::string& grid_name, std::string_view uuid,
+                             std::span<const std::int64_t> value_bytes,
+                             std::uint64_t records_bytes) const {
   TEXSIM_VERIFY(uuid.size() == 36, "a .vdb UUID has 36 characters, got '" << uuid << "'");
   const bool compressed = compression_ != VdbCompression::none;
   TEXSIM_VERIFY(!compressed || std::int64_t(value_bytes.size()) == leaf_count(),
@@ -175,7 +175,7 @@ std::string DenseVdbLayout::head(const std::string& grid_name, std::string_view 
     std::ostringstream positions(std::ios::binary);
     descriptor.writeStreamPos(positions);
     bytes.replace(positions_at, positions.str().size(), positions.str());
-    return bytes;
+    return VdbHead{std::move(bytes), std::uint64_t(block_at)};
   });
 }
 

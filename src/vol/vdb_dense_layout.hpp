@@ -29,6 +29,13 @@ namespace texsim::vol {
 /// Blosc-LZ4, with OpenVDB's active-mask flag; every voxel is active, so it drops nothing).
 enum class VdbCompression { none, zip, blosc };
 
+/// The file from its start through the grid's transform, and where the leaf records start (after
+/// the topology that follows the head).
+struct VdbHead {
+  std::string bytes;
+  std::uint64_t leaves_at = 0;
+};
+
 class DenseVdbLayout {
 public:
   static constexpr int kLeafDim = 8;
@@ -59,8 +66,8 @@ public:
   /// delayed-load table of a compressed file; ignored when uncompressed); `records_bytes`: all
   /// leaf records. Its stream positions say the topology follows at once and the leaf records
   /// after it.
-  std::string head(const std::string& grid_name, std::string_view uuid,
-                   std::span<const std::int64_t> value_bytes, std::uint64_t records_bytes) const;
+  VdbHead head(const std::string& grid_name, std::string_view uuid,
+               std::span<const std::int64_t> value_bytes, std::uint64_t records_bytes) const;
   /// The bytes OpenVDB reports the loaded tree uses (openvdb::tools::memUsage), stored as the
   /// grid's `file_mem_bytes` statistic.
   std::int64_t tree_memory_bytes() const;
