@@ -1,0 +1,68 @@
+#pragma once
+/// The C1 basis of Loop's subdivision surfaces on a closed triangle mesh (Bajaj, Zhang, Xu,
+/// section 3.3): vertex i's function is the limit of Loop subdivision from the value 1 at i and 0
+/// at every other vertex; u = sum_i u_i phi_i, and the surface itself is sum_i x_i phi_i.
+///
+/// On triangle (a, b, c) the nonzero functions are those of its controls, the vertices of its
+/// corners' 1-rings. A regular triangle (three corners of valence 6) is one quartic box spline of
+/// 12 controls (geom/loop_box_spline). An irregular one is subdivided, as the paper does after
+/// Stam, "until the parameter values of interest are inside a regular" sub-triangle: its corners'
+/// stars are refined with Loop's masks, carrying each new vertex as a combination of the
+/// controls, and the sub-triangle holding the point is followed until it is regular. Points are
+/// x = a + s (b - a) + t (c - a); a point on an extraordinary corner itself is never regular
+/// (quadrature points are interior).
+///
+/// Every vertex whose function is evaluated must have a closed fan of triangles around it in the
+/// mesh (a boundary is refused): a rank's part can evaluate the triangles whose corners' stars it
+/// holds whole. Serial, not collective.
+#include "geom/mesh_topology.hpp"
+#include "geom/triangle_mesh.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace texsim::geom {
+
+/// The functions of one triangle's controls at one point: value and derivatives in s and t.
+struct PatchBasisValues {
+  std::vector<double> value, d_s, d_t;
+};
+
+class LoopPatchBasis {
+public:
+  /// Deepest subdivision followed for one point: a point within 2^-kMaxDepth of an
+  /// extraordinary corner (in s, t) is refused.
+  static constexpr int kMaxDepth = 40;
+
+  /// `mesh` consistently oriented; `topology` its adjacency. Both must outlive this object.
+  LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology);
+
+  /// Whether every corner of triangle t has a closed fan of triangles around it here.
+  bool evaluable(std::int32_t t) const;
+  /// Three corners of valence 6 (t evaluable).
+  bool is_regular(std::int32_t t) const;
+  /// The controls of triangle t: for a regular triangle the 12 vertices in kRegularPatchLattice
+  /// order (corner order of the mesh's triangle), otherwise its corners' 1-rings, increasing.
+  std::vector<std::int32_t> controls(std::int32_t t) const;
+  /// The functions of controls(t) at (s, t_param) of triangle t.
+  void evaluate(std::int32_t t, double s, double t_param, PatchBasisValues& out) const;
+
+  /// The limit of Loop subdivision at vertex v (closed fan) of per-vertex `values`
+  /// (`components` per vertex): (1 - n w) v + w sum of the n neighbours, w = 1 / (n + 3 / (8
+  /// beta_n)).
+  void limit_value(std::int32_t v, std::span<const double> values, int components,
+                   std::span<double> out) const;
+
+private:
+  const TriangleMesh& mesh_;
+  const MeshTopology& topology_;
+
+  bool closed_fan(std::int32_t v) const;
+};
+
+/// Loop's vertex weight beta_n: an even vertex of valence n moves to (1 - n beta) v + beta sum of
+/// its neighbours.
+double loop_beta(int valence);
+
+} // namespace texsim::geom
