@@ -32,6 +32,19 @@ double total_area(const DistributedMesh& mesh) {
   return summed(mesh, area, 0).first;
 }
 
+std::int64_t boundary_edge_count(const DistributedMesh& mesh) {
+  // An owned triangle's edge inside the surface has its second triangle in the halo.
+  const auto& topology = mesh.topology();
+  std::int64_t mine = 0;
+  for (const std::int32_t t : mesh.owned_triangles())
+    for (const std::int32_t e : topology.triangle_edges(t))
+      if (topology.edge_triangles(e).size() == 1)
+        ++mine;
+  std::int64_t total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, mesh.comm().raw);
+  return total;
+}
+
 double mean_edge_length(const DistributedMesh& mesh) {
   const auto& surface = mesh.mesh();
   std::vector<double> lengths;

@@ -13,6 +13,9 @@ double total_area(const DistributedMesh& mesh);
 /// at any rank count (par::reproducible_sum). Collective.
 double mean_edge_length(const DistributedMesh& mesh);
 
+/// Edges of the surface with a single triangle (0 for a closed surface). Collective.
+std::int64_t boundary_edge_count(const DistributedMesh& mesh);
+
 /// As geom::mean_normal_deviation_deg on the whole surface. Collective.
 double mean_normal_deviation_deg(const DistributedMesh& mesh);
 

@@ -12,10 +12,12 @@ namespace {
 
 // Values after `steps` steps, in input-vertex order, on every rank.
 std::vector<double> solve(const par::Comm& comm, const geom::TriangleMesh& surface,
-                          geom::PartitionMethod method, int steps) {
+                          geom::PartitionMethod method, int steps, FemBasis basis = FemBasis::kP1) {
   const geom::DistributedMesh mesh(comm, surface, method);
   const test::FisherModel model;
-  ReactionDiffusionSolver solver(comm, mesh, model, {0.5, false, 1e-12});
+  RdOptions options{0.5, false, 1e-12};
+  options.basis = basis;
+  ReactionDiffusionSolver solver(comm, mesh, model, options);
   for (int n = 0; n < steps; ++n)
     solver.step(0.5 * n);
   return texsim::test::gather_by_id(comm, mesh.owned_input_ids(),
@@ -44,6 +46,19 @@ TEST_P(RankAgreement, DistributedEqualsSerialToSolverTolerance) {
   for (double u : distributed)
     mean += u / double(distributed.size());
   EXPECT_GT(mean, 0.6);
+}
+
+TEST(RankAgreement, LoopBasisDistributedEqualsSerialToSolverTolerance) {
+  // Loop's functions reach three rings out: every rank's rows need its whole halo.
+  const auto surface = geom::noisy(geom::icosphere(3, 5.0), 0.05, 9);
+  const auto serial = solve(self(), surface, geom::PartitionMethod::kScotch, 10, FemBasis::kLoop);
+  const auto distributed =
+      solve(par::world(), surface, geom::PartitionMethod::kScotch, 10, FemBasis::kLoop);
+  ASSERT_EQ(serial.size(), distributed.size());
+  double largest = 0;
+  for (std::size_t v = 0; v < serial.size(); ++v)
+    largest = std::max(largest, std::abs(serial[v] - distributed[v]));
+  EXPECT_LT(largest, 1e-8);
 }
 
 INSTANTIATE_TEST_SUITE_P(Partitions, RankAgreement,

@@ -73,6 +73,19 @@ void FemRdPipeline::run(RunContext& ctx) {
     surface = {};
     if (settings_.mesh.noise_amplitude > 0)
       geom::add_normal_noise(*mesh, settings_.mesh.noise_amplitude, run.seed);
+    if (settings_.rd.basis == FemBasis::kLoop) {
+      const std::int64_t boundary = geom::boundary_edge_count(*mesh);
+      const std::string surface = settings_.mesh.file.empty() ? std::string("the generated surface")
+                                                              : settings_.mesh.file.string();
+      par::run_collectively(comm, [&] {
+        if (boundary > 0)
+          throw InputError(log::cat(
+              "fem_rd.basis: loop needs a closed surface (Loop's box splines are defined around "
+              "interior vertices), but ",
+              surface, " has ", boundary,
+              " boundary edges; fill its holes (fem_rd.mesh.repair) or use basis: p1"));
+      });
+    }
     const auto& quality = mesh->quality();
     report.metric("vertices", mesh->global_count());
     report.metric("triangles", mesh->global_triangle_count());
@@ -186,7 +199,8 @@ void FemRdPipeline::run(RunContext& ctx) {
     field.emplace(*settings_.diffusion, solver.species_names());
   for (std::size_t s = 0; s < solver.species_count(); ++s) {
     const auto& stats = solver.solve_stats(s);
-    const auto owned = solver.local_values(s).first(mesh->owned_count());
+    const auto on_surface = solver.surface_values(s);
+    const auto owned = std::span(on_surface).first(std::size_t(mesh->owned_count()));
     const auto regions = count_regions_above_mean(*mesh, owned);
     const auto range = par::global_range(comm, owned);
     species[solver.species_names()[s]] = {{"cg_iterations_mean", stats.mean_iterations()},

@@ -9,6 +9,8 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
       "partition", settings.partition,
       {{"scotch", geom::PartitionMethod::kScotch}, {"morton", geom::PartitionMethod::kMorton}});
 
+  settings.rd.basis = section.choice<FemBasis>("basis", settings.rd.basis,
+                                               {{"p1", FemBasis::kP1}, {"loop", FemBasis::kLoop}});
   const auto time = section.section("time");
   settings.steps = time.get<int>("steps", settings.steps, non_negative_int());
   settings.rd.dt = time.get<double>("dt", settings.rd.dt, positive());

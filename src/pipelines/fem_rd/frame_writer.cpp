@@ -23,13 +23,17 @@ std::filesystem::path write_frame(const par::Comm& comm, const geom::Distributed
   std::vector<double> xyz(3 * n);
   std::vector<std::int64_t> input_id(n);
   std::vector<std::vector<double>> species(solver.species_count(), std::vector<double>(n));
+  const auto points = solver.surface_points();
+  std::vector<std::vector<double>> values;
+  for (std::size_t s = 0; s < species.size(); ++s)
+    values.push_back(solver.surface_values(s));
   for (std::size_t p = 0; p < n; ++p) {
     const std::int32_t local = piece_locals[p];
     for (int axis = 0; axis < 3; ++axis)
-      xyz[3 * p + axis] = mesh.mesh().positions[local][axis];
+      xyz[3 * p + axis] = points[std::size_t(local)][axis];
     input_id[p] = mesh.input_id()[local];
     for (std::size_t s = 0; s < species.size(); ++s)
-      species[s][p] = solver.local_values(s)[local];
+      species[s][p] = values[s][std::size_t(local)];
   }
   const std::vector<std::int32_t> owner(mesh.owned_triangles().size(), comm.rank);
   io::SurfacePiece piece{xyz, triangles, {}, {{"rank", 1, owner}}};

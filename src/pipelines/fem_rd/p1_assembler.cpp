@@ -34,66 +34,27 @@ ElementGeometry element_geometry(const geom::Vec3& x0, const geom::Vec3& x1, con
   return element;
 }
 
-} // namespace
-
-P1Assembler::P1Assembler(const geom::DistributedMesh& mesh) : mesh_(mesh) {
-  // Rows are the owned vertices, columns global ids (PETSc's numbering), sorted per row.
-  const auto& neighbors = mesh.topology().vertex_neighbors();
-  const std::int32_t begin = mesh.owned_begin();
-  row_offsets_.push_back(0);
-  for (std::int32_t v = 0; v < mesh.owned_count(); ++v) {
-    const std::size_t start = columns_.size();
-    columns_.push_back(begin + v);
-    for (const std::int32_t w : neighbors.row(v))
-      columns_.push_back(mesh.global_index(w));
-    std::sort(columns_.begin() + std::ptrdiff_t(start), columns_.end());
-    row_offsets_.push_back(PetscInt(columns_.size()));
-  }
-  const auto slot = [&](std::int32_t row, std::int32_t column) -> std::int64_t {
-    if (row < begin || row >= mesh.owned_end())
-      return -1;
-    const auto first = columns_.begin() + row_offsets_[row - begin];
-    const auto last = columns_.begin() + row_offsets_[row - begin + 1];
-    return std::lower_bound(first, last, column) - columns_.begin();
-  };
+/// The assembly triangles' corners as elements of three functions.
+ElementAssembly p1_elements(const geom::DistributedMesh& mesh) {
+  std::vector<std::int64_t> offsets{0};
+  std::vector<std::int32_t> functions;
   for (const std::int32_t t : mesh.assembly_triangles()) {
-    const auto& tri = mesh.mesh().triangles[t];
-    const std::array<std::int32_t, 3> global{mesh.global_index(tri[0]), mesh.global_index(tri[1]),
-                                             mesh.global_index(tri[2])};
-    std::array<std::int64_t, 9> entry{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        entry[3 * i + j] = slot(global[i], global[j]);
-    slots_.push_back(entry);
-    corners_.push_back({tri[0], tri[1], tri[2]});
+    for (const std::int32_t corner : mesh.mesh().triangles[t])
+      functions.push_back(mesh.global_index(corner));
+    offsets.push_back(std::int64_t(functions.size()));
   }
-  // Invert the slots: each value's element entries, in element order (a counting sort).
-  source_offsets_.assign(columns_.size() + 1, 0);
-  for (const auto& entry : slots_)
-    for (const std::int64_t slot : entry)
-      if (slot >= 0)
-        ++source_offsets_[std::size_t(slot) + 1];
-  for (std::size_t v = 0; v < columns_.size(); ++v)
-    source_offsets_[v + 1] += source_offsets_[v];
-  sources_.resize(std::size_t(source_offsets_.back()));
-  std::vector<std::int64_t> next(source_offsets_.begin(), source_offsets_.end() - 1);
-  for (std::size_t e = 0; e < slots_.size(); ++e)
-    for (std::size_t k = 0; k < 9; ++k)
-      if (slots_[e][k] >= 0)
-        sources_[std::size_t(next[std::size_t(slots_[e][k])]++)] = std::int64_t(9 * e + k);
-  update_geometry();
+  return {mesh.owned_begin(), mesh.owned_end(), offsets, functions};
 }
 
-std::vector<double> P1Assembler::sum_entries(const std::vector<double>& entries) const {
-  std::vector<double> values(columns_.size());
-#pragma omp parallel for schedule(static)
-  for (std::size_t v = 0; v < values.size(); ++v) {
-    double sum = 0.0;
-    for (auto k = source_offsets_[v]; k < source_offsets_[v + 1]; ++k)
-      sum += entries[std::size_t(sources_[std::size_t(k)])];
-    values[v] = sum;
+} // namespace
+
+P1Assembler::P1Assembler(const geom::DistributedMesh& mesh)
+    : FemAssembler(p1_elements(mesh)), mesh_(mesh) {
+  for (const std::int32_t t : mesh.assembly_triangles()) {
+    const auto& tri = mesh.mesh().triangles[t];
+    corners_.push_back({tri[0], tri[1], tri[2]});
   }
-  return values;
+  update_geometry();
 }
 
 void P1Assembler::update_geometry() {
@@ -117,29 +78,10 @@ void P1Assembler::update_geometry() {
                 "degenerate triangle " << triangles[std::size_t(degenerate)] << " in FEM assembly");
 }
 
-par::PetscMat P1Assembler::create_matrix(const par::Comm& comm) const {
-  par::PetscMat matrix;
-  const std::vector<double> zeros(columns_.size(), 0.0);
-  const PetscInt rows = mesh_.owned_count();
-  TEXSIM_PETSC_CALL(MatCreateMPIAIJWithArrays(comm.raw, rows, rows, PETSC_DETERMINE,
-                                              PETSC_DETERMINE, row_offsets_.data(), columns_.data(),
-                                              zeros.data(), matrix.address()));
-  TEXSIM_PETSC_CALL(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
-  return matrix;
-}
-
-void P1Assembler::set_values(Mat matrix, const std::vector<double>& values) const {
-  TEXSIM_VERIFY(values.size() == columns_.size(),
-                "set_values: " << values.size() << " values for " << columns_.size() << " slots");
-  const PetscInt rows = mesh_.owned_count();
-  TEXSIM_PETSC_CALL(MatUpdateMPIAIJWithArrays(matrix, rows, rows, PETSC_DETERMINE, PETSC_DETERMINE,
-                                              row_offsets_.data(), columns_.data(), values.data()));
-}
-
 std::vector<double> P1Assembler::mass_values(std::span<const double> weight, bool lumped) const {
-  std::vector<double> entries(9 * slots_.size(), 0.0);
+  std::vector<double> entries(9 * corners_.size(), 0.0);
 #pragma omp parallel for schedule(static)
-  for (std::size_t e = 0; e < slots_.size(); ++e) {
+  for (std::size_t e = 0; e < corners_.size(); ++e) {
     const double area = areas_[e];
     std::array<double, 3> w{1.0, 1.0, 1.0};
     if (!weight.empty())
@@ -159,13 +101,13 @@ std::vector<double> P1Assembler::mass_values(std::span<const double> weight, boo
             i == j ? area / 30.0 * (2.0 * w[i] + sum) : area / 60.0 * (w[i] + w[j] + sum);
     }
   }
-  return sum_entries(entries);
+  return assembly_.sum_entries(entries);
 }
 
 std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensors) const {
-  std::vector<double> entries(9 * slots_.size(), 0.0);
+  std::vector<double> entries(9 * corners_.size(), 0.0);
 #pragma omp parallel for schedule(static)
-  for (std::size_t e = 0; e < slots_.size(); ++e) {
+  for (std::size_t e = 0; e < corners_.size(); ++e) {
     const auto& gradient = gradients_[e];
     Eigen::Matrix3d mean_tensor = Eigen::Matrix3d::Identity();
     if (!tensors.empty()) {
@@ -181,7 +123,7 @@ std::vector<double> P1Assembler::stiffness_values(std::span<const double> tensor
         entries[9 * e + std::size_t(3 * i + j)] = areas_[e] * flux.dot(gradient[j]);
     }
   }
-  return sum_entries(entries);
+  return assembly_.sum_entries(entries);
 }
 
 } // namespace texsim::pipelines::fem_rd

@@ -4,8 +4,11 @@
 #include "core/log.hpp"
 #include "core/rng.hpp"
 #include "geom/distributed_measures.hpp"
+#include "geom/loop_patch_basis.hpp"
 #include "par/collective.hpp"
 #include "par/petsc_session.hpp"
+#include "pipelines/fem_rd/loop_assembler.hpp"
+#include "pipelines/fem_rd/p1_assembler.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +18,12 @@ namespace texsim::pipelines::fem_rd {
 namespace {
 /// CounterRng stream of the probe's right-hand side.
 constexpr std::uint32_t kProbeStream = 0x7e57;
+
+std::unique_ptr<FemAssembler> make_assembler(const geom::DistributedMesh& mesh, FemBasis basis) {
+  if (basis == FemBasis::kLoop)
+    return std::make_unique<LoopAssembler>(mesh);
+  return std::make_unique<P1Assembler>(mesh);
+}
 } // namespace
 
 ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
@@ -22,15 +31,15 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                  const rd::ReactionModel& model,
                                                  const RdOptions& options,
                                                  const std::optional<DiffusionFieldSettings>& field)
-    : comm_(comm), mesh_(mesh), model_(model), options_(options), assembler_(mesh),
-      names_(model.species()) {
+    : comm_(comm), mesh_(mesh), model_(model), options_(options),
+      assembler_(make_assembler(mesh, options.basis)), names_(model.species()) {
   if (field)
     field_ = std::make_unique<DiffusionField>(*field, names_);
-  mass_ = assembler_.create_matrix(comm);
+  mass_ = assembler_->create_matrix(comm);
   for (std::size_t s = 0; s < names_.size(); ++s) {
     fields_.push_back(
         std::make_unique<par::GhostedVector>(comm, mesh.owned_count(), mesh.ghosts()));
-    systems_.push_back(assembler_.create_matrix(comm));
+    systems_.push_back(assembler_->create_matrix(comm));
   }
   TEXSIM_PETSC_CALL(MatCreateVecs(mass_, ones_.address(), rhs_.address()));
   TEXSIM_PETSC_CALL(VecDuplicate(rhs_, explicit_part_.address()));
@@ -50,15 +59,58 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
     solvers_.push_back(std::make_unique<par::CgSolver>(comm, options.rtol, preconditioner_));
   if (preconditioner_ != par::Preconditioner::kJacobi) {
     for (std::size_t s = 0; s < names_.size(); ++s)
-      preconditioning_.push_back(assembler_.create_matrix(comm));
+      preconditioning_.push_back(assembler_->create_matrix(comm));
     assemble_preconditioners();
   }
 }
 
-std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
+std::vector<std::span<const double>> ReactionDiffusionSolver::coefficient_state() {
   std::vector<std::span<const double>> state;
-  for (const auto& field : fields_)
-    state.push_back(field->local());
+  const std::int32_t count = assembler_->coefficient_count();
+  if (count == mesh_.local_count()) {
+    for (const auto& field : fields_)
+      state.push_back(field->local());
+    return state;
+  }
+  halo_state_.resize(fields_.size());
+  for (std::size_t s = 0; s < fields_.size(); ++s) {
+    const auto local = fields_[s]->local();
+    halo_state_[s].assign(std::size_t(count), 0.0);
+    std::copy(local.begin(), local.end(), halo_state_[s].begin());
+    mesh_.update_halo(halo_state_[s]);
+    state.push_back(halo_state_[s]);
+  }
+  return state;
+}
+
+std::vector<double> ReactionDiffusionSolver::surface_values(std::size_t s) const {
+  const auto local = fields_[s]->local();
+  if (options_.basis == FemBasis::kP1)
+    return {local.begin(), local.end()};
+  std::vector<double> coefficients(std::size_t(mesh_.mesh().num_vertices()), 0.0);
+  std::copy(local.begin(), local.end(), coefficients.begin());
+  mesh_.update_halo(coefficients);
+  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology());
+  std::vector<double> values(local.size());
+  for (std::int32_t v = 0; v < mesh_.local_count(); ++v)
+    basis.limit_value(v, coefficients, 1, std::span(values).subspan(std::size_t(v), 1));
+  return values;
+}
+
+std::vector<geom::Vec3> ReactionDiffusionSolver::surface_points() const {
+  const auto& positions = mesh_.mesh().positions;
+  std::vector<geom::Vec3> points(positions.begin(), positions.begin() + mesh_.local_count());
+  if (options_.basis == FemBasis::kP1)
+    return points;
+  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology());
+  const std::span<const double> xyz(positions.front().data(), 3 * positions.size());
+  for (std::int32_t v = 0; v < mesh_.local_count(); ++v)
+    basis.limit_value(v, xyz, 3, std::span(points[std::size_t(v)].data(), 3));
+  return points;
+}
+
+std::vector<double> ReactionDiffusionSolver::species_diffusion() {
+  const auto state = coefficient_state();
   std::vector<rd::SpeciesCoefficients> coefficients;
   model_.coefficients(0.0, state, rd::VertexData{local_ids_, local_xyz_}, coefficients);
   std::vector<double> diffusion;
@@ -70,7 +122,7 @@ std::vector<double> ReactionDiffusionSolver::species_diffusion() const {
 std::vector<double> ReactionDiffusionSolver::system_values(std::span<const double> weight,
                                                            std::size_t s,
                                                            bool geometry_only) const {
-  std::vector<double> values = assembler_.mass_values(weight, options_.lumped_mass);
+  std::vector<double> values = assembler_->mass_values(weight, options_.lumped_mass);
   const bool tensor =
       field_ && field_->applies_to(names_[s]) && !(geometry_only && field_->depends_on_species());
   const std::vector<double>& stiffness = tensor ? field_stiffness_ : stiffness_;
@@ -95,8 +147,8 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
   // geometry, so a restarted run makes the same choice.
   const auto fastest =
       std::size_t(std::max_element(diffusion_.begin(), diffusion_.end()) - diffusion_.begin());
-  par::PetscMat probe = assembler_.create_matrix(comm_);
-  assembler_.set_values(probe, system_values({}, fastest, true));
+  par::PetscMat probe = assembler_->create_matrix(comm_);
+  assembler_->set_values(probe, system_values({}, fastest, true));
   par::PetscVec x;
   TEXSIM_PETSC_CALL(VecDuplicate(rhs_, x.address()));
   const CounterRng rng(0, kProbeStream);
@@ -123,7 +175,7 @@ par::Preconditioner ReactionDiffusionSolver::choose_preconditioner() {
 
 void ReactionDiffusionSolver::assemble_preconditioners() {
   for (std::size_t s = 0; s < preconditioning_.size(); ++s)
-    assembler_.set_values(preconditioning_[s], system_values({}, s, true));
+    assembler_->set_values(preconditioning_[s], system_values({}, s, true));
 }
 
 void ReactionDiffusionSolver::record_step_iterations(long long iterations) {
@@ -159,7 +211,7 @@ nlohmann::json ReactionDiffusionSolver::solver_metrics() const {
 }
 
 void ReactionDiffusionSolver::refresh_vertex_data() {
-  const std::int32_t n = mesh_.local_count();
+  const std::int32_t n = assembler_->coefficient_count();
   local_ids_.resize(n);
   local_xyz_.resize(3 * std::size_t(n));
   for (std::int32_t local = 0; local < n; ++local) {
@@ -171,9 +223,9 @@ void ReactionDiffusionSolver::refresh_vertex_data() {
 
 void ReactionDiffusionSolver::rebuild_geometry() {
   refresh_vertex_data();
-  assembler_.update_geometry();
-  assembler_.set_values(mass_, assembler_.mass_values({}, options_.lumped_mass));
-  stiffness_ = assembler_.stiffness_values({});
+  assembler_->update_geometry();
+  assembler_->set_values(mass_, assembler_->mass_values({}, options_.lumped_mass));
+  stiffness_ = assembler_->stiffness_values({});
   if (field_ && !field_->depends_on_species())
     assemble_field_stiffness();
   mean_edge_length_ = geom::mean_edge_length(mesh_);
@@ -182,21 +234,17 @@ void ReactionDiffusionSolver::rebuild_geometry() {
 }
 
 void ReactionDiffusionSolver::assemble_field_stiffness() {
-  std::vector<std::span<const double>> state;
-  for (const auto& field : fields_)
-    state.push_back(field->local());
-  const std::size_t count = std::size_t(mesh_.owned_count()) + mesh_.ghosts().size();
+  const auto state = coefficient_state();
+  const auto count = std::size_t(assembler_->coefficient_count());
   std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
   par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh(), count, state); });
-  field_stiffness_ = assembler_.stiffness_values(tensors);
+  field_stiffness_ = assembler_->stiffness_values(tensors);
 }
 
 void ReactionDiffusionSolver::step(double t) {
   if (field_ && field_->depends_on_species()) // the rates of u^n, as C2 and C3 are
     assemble_field_stiffness();
-  std::vector<std::span<const double>> state;
-  for (const auto& field : fields_)
-    state.push_back(field->local());
+  const auto state = coefficient_state();
   const rd::VertexData vertices{local_ids_, local_xyz_};
   model_.coefficients(t, state, vertices, coefficients_);
   TEXSIM_VERIFY(coefficients_.size() == fields_.size(), "model gave coefficients for "
@@ -204,13 +252,13 @@ void ReactionDiffusionSolver::step(double t) {
                                                             << fields_.size() << " species");
 
   const double dt = options_.dt;
-  std::vector<double> weight(mesh_.local_count());
+  std::vector<double> weight(std::size_t(assembler_->coefficient_count()));
   long long iterations = 0;
   for (std::size_t s = 0; s < fields_.size(); ++s) {
     const auto& c = coefficients_[s];
     for (std::size_t v = 0; v < weight.size(); ++v)
       weight[v] = 1.0 - dt * std::min(c.linear[v], 0.0);
-    assembler_.set_values(systems_[s], system_values(weight, s, false));
+    assembler_->set_values(systems_[s], system_values(weight, s, false));
 
     // Right-hand side M (u^n + tau C3): the P1 interpolant of C3 integrates exactly.
     double* explicit_values = nullptr;

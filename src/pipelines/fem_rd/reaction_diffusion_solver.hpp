@@ -19,7 +19,7 @@
 #include "par/cg_solver.hpp"
 #include "par/ghosted_vector.hpp"
 #include "pipelines/fem_rd/diffusion_field.hpp"
-#include "pipelines/fem_rd/p1_assembler.hpp"
+#include "pipelines/fem_rd/fem_assembler.hpp"
 #include "rd/reaction_model.hpp"
 
 #include <nlohmann/json.hpp>
@@ -30,6 +30,10 @@
 
 namespace texsim::pipelines::fem_rd {
 
+/// The functions u is expanded in (eq. 7): P1 hats on the mesh, or the paper's C1 Loop box
+/// splines with the mesh as control mesh (LoopAssembler).
+enum class FemBasis { kP1, kLoop };
+
 /// The preconditioner of the RD solves: chosen by a probe solve (kAuto) or fixed.
 enum class RdPreconditioner { kAuto, kJacobi, kGamg, kBoomerAmg };
 
@@ -38,6 +42,7 @@ struct RdOptions {
   bool lumped_mass = false;                                  ///< lumped instead of consistent mass
   double rtol = 1e-10;                                       ///< CG relative tolerance
   RdPreconditioner preconditioner = RdPreconditioner::kAuto; ///< fem_rd.solver.preconditioner
+  FemBasis basis = FemBasis::kP1;                            ///< fem_rd.basis
 };
 
 class ReactionDiffusionSolver {
@@ -56,8 +61,14 @@ public:
 
   std::size_t species_count() const { return fields_.size(); }
   const std::vector<std::string>& species_names() const { return names_; }
-  /// Owned then ghost values of species s.
+  /// Owned then ghost values of species s: the coefficients u_i of eq. (7).
   std::span<const double> local_values(std::size_t s) const { return fields_[s]->local(); }
+  /// Species s on the surface at the owned vertices and ghosts: the coefficients for P1, the
+  /// limit values (Loop's limit mask) for Loop. Collective.
+  std::vector<double> surface_values(std::size_t s) const;
+  /// The surface's points at the owned vertices and ghosts: the mesh's for P1, its limit points
+  /// for Loop. Not collective.
+  std::vector<geom::Vec3> surface_points() const;
   /// Replaces the owned values of species s (e.g. from a checkpoint). Collective.
   void set_owned_values(std::size_t s, std::span<const double> owned);
 
@@ -78,6 +89,10 @@ public:
 
 private:
   void refresh_vertex_data();
+  /// Every species at the vertices that coefficient arrays cover (FemAssembler::
+  /// coefficient_count): the ghosted vector's local part, or, for Loop's wider supports, the
+  /// whole local mesh with the halo filled from the owners. Collective.
+  std::vector<std::span<const double>> coefficient_state();
   /// K with fem_rd.diffusion's tensors at the current geometry and state. Collective.
   void assemble_field_stiffness();
   void clamp_to_lower_bound(std::size_t s);
@@ -88,7 +103,7 @@ private:
   std::vector<double> system_values(std::span<const double> weight, std::size_t s,
                                     bool geometry_only) const;
   /// The diffusion rate of each species (constant per species), from one model evaluation.
-  std::vector<double> species_diffusion() const;
+  std::vector<double> species_diffusion();
   /// Applies options_.preconditioner; for kAuto runs the Jacobi probe. Collective.
   par::Preconditioner choose_preconditioner();
   /// P = M + tau D K of every species into preconditioning_. Collective.
@@ -100,7 +115,7 @@ private:
   const geom::DistributedMesh& mesh_;
   const rd::ReactionModel& model_;
   RdOptions options_;
-  P1Assembler assembler_;
+  std::unique_ptr<FemAssembler> assembler_;
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<par::GhostedVector>> fields_;
   std::vector<std::unique_ptr<par::CgSolver>> solvers_;
@@ -110,8 +125,9 @@ private:
   std::unique_ptr<DiffusionField> field_;
   std::vector<double> field_stiffness_; ///< K with fem_rd.diffusion's tensors, pattern order
   par::PetscVec rhs_, explicit_part_, ones_;
-  std::vector<std::int64_t> local_ids_; ///< input-mesh id of each local vertex
-  std::vector<double> local_xyz_;       ///< position of each local vertex
+  std::vector<std::vector<double>> halo_state_; ///< Loop: each species on the whole local mesh
+  std::vector<std::int64_t> local_ids_;         ///< input-mesh id of each coefficient vertex
+  std::vector<double> local_xyz_;               ///< position of each local vertex
   std::vector<rd::SpeciesCoefficients> coefficients_;
   std::vector<double> diffusion_; ///< per species
   par::Preconditioner preconditioner_ = par::Preconditioner::kJacobi;

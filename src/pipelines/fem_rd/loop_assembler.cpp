@@ -1,0 +1,255 @@
+#include "pipelines/fem_rd/loop_assembler.hpp"
+
+#include "core/error.hpp"
+#include "geom/loop_box_spline.hpp"
+
+#include <cmath>
+
+namespace texsim::pipelines::fem_rd {
+namespace {
+
+/// Points (s, t) and weights of a quadrature rule on the parameter triangle (weights sum to 1/2).
+struct TriangleRule {
+  std::vector<std::array<double, 2>> points;
+  std::vector<double> weights;
+};
+
+/// The collapsed (Duffy) product of 4-point Gauss-Legendre rules: exact for polynomials of
+/// degree 7 in s, t.
+TriangleRule collapsed_gauss_rule() {
+  const double inner = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
+  const double outer = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
+  const double inner_weight = (18.0 + std::sqrt(30.0)) / 36.0;
+  const double outer_weight = (18.0 - std::sqrt(30.0)) / 36.0;
+  // Nodes and weights on [0, 1].
+  const std::array<double, 4> x{(1 - outer) / 2, (1 - inner) / 2, (1 + inner) / 2, (1 + outer) / 2};
+  const std::array<double, 4> w{outer_weight / 2, inner_weight / 2, inner_weight / 2,
+                                outer_weight / 2};
+  TriangleRule rule;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      rule.points.push_back({x[i], x[j] * (1 - x[i])});
+      rule.weights.push_back(w[i] * w[j] * (1 - x[i]));
+    }
+  return rule;
+}
+
+/// The rule on each of the n^2 sub-triangles of the parameter triangle cut n times per side.
+TriangleRule subdivided_rule(const TriangleRule& rule, int n) {
+  TriangleRule result;
+  const auto add = [&](std::array<double, 2> p0, std::array<double, 2> p1,
+                       std::array<double, 2> p2) {
+    for (std::size_t q = 0; q < rule.points.size(); ++q) {
+      const auto [s, t] = rule.points[q];
+      result.points.push_back({(p0[0] + s * (p1[0] - p0[0]) + t * (p2[0] - p0[0])) / n,
+                               (p0[1] + s * (p1[1] - p0[1]) + t * (p2[1] - p0[1])) / n});
+      result.weights.push_back(rule.weights[q] / double(n * n));
+    }
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      const double a = i, b = j;
+      add({a, b}, {a + 1, b}, {a, b + 1});
+      if (i + j + 1 < n)
+        add({a + 1, b}, {a + 1, b + 1}, {a, b + 1});
+    }
+  return result;
+}
+
+/// Sub-triangles per side of an irregular triangle's quadrature: two subdivisions.
+constexpr int kIrregularSplit = 4;
+
+ElementAssembly element_assembly(const geom::DistributedMesh& mesh,
+                                 const std::vector<std::int64_t>& offsets,
+                                 const std::vector<std::int32_t>& controls) {
+  std::vector<std::int32_t> functions;
+  functions.reserve(controls.size());
+  for (const std::int32_t local : controls)
+    functions.push_back(mesh.global_index(local));
+  return {mesh.owned_begin(), mesh.owned_end(), offsets, functions};
+}
+
+} // namespace
+
+LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedMesh& mesh) {
+  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology());
+  ElementList list;
+  const auto& triangles = mesh.mesh().triangles;
+  for (std::int32_t t = 0; t < mesh.mesh().num_triangles(); ++t) {
+    const auto& tri = triangles[std::size_t(t)];
+    if (tri[0] >= mesh.local_count() && tri[1] >= mesh.local_count() &&
+        tri[2] >= mesh.local_count())
+      continue; // no corner within one ring of an owned vertex
+    TEXSIM_VERIFY(basis.evaluable(t), "Loop basis: triangle " << t
+                                                              << " has a corner on a "
+                                                                 "boundary or outside this rank's "
+                                                                 "halo");
+    const auto controls = basis.controls(t);
+    list.triangles.push_back(t);
+    list.controls.insert(list.controls.end(), controls.begin(), controls.end());
+    list.offsets.push_back(std::int64_t(list.controls.size()));
+  }
+  return list;
+}
+
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh)
+    : LoopAssembler(mesh, list_elements(mesh)) {}
+
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list)
+    : FemAssembler(element_assembly(mesh, list.offsets, list.controls)), mesh_(mesh),
+      controls_(std::move(list.controls)) {
+  const TriangleRule regular_rule = collapsed_gauss_rule();
+  const TriangleRule irregular_rule = subdivided_rule(regular_rule, kIrregularSplit);
+  Table regular;
+  const auto regular_points = Eigen::Index(regular_rule.points.size());
+  regular.weight = regular_rule.weights;
+  regular.value.resize(regular_points, 12);
+  regular.d_s.resize(regular_points, 12);
+  regular.d_t.resize(regular_points, 12);
+  for (Eigen::Index q = 0; q < regular_points; ++q) {
+    const auto [s, t] = regular_rule.points[std::size_t(q)];
+    const auto basis = geom::regular_patch_basis(s, t);
+    for (Eigen::Index k = 0; k < 12; ++k) {
+      regular.value(q, k) = basis.value[std::size_t(k)];
+      regular.d_s(q, k) = basis.d_s[std::size_t(k)];
+      regular.d_t(q, k) = basis.d_t[std::size_t(k)];
+    }
+  }
+  tables_.push_back(std::move(regular));
+
+  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology());
+  geom::PatchBasisValues values;
+  std::size_t points = 0;
+  for (std::size_t e = 0; e < list.triangles.size(); ++e) {
+    const std::int32_t t = list.triangles[e];
+    Element element;
+    element.triangle = t;
+    element.first_control = std::size_t(list.offsets[e]);
+    element.first_point = points;
+    if (!basis.is_regular(t)) {
+      Table table;
+      const auto count = Eigen::Index(irregular_rule.points.size());
+      const auto functions = Eigen::Index(list.offsets[e + 1] - list.offsets[e]);
+      table.weight = irregular_rule.weights;
+      table.value.resize(count, functions);
+      table.d_s.resize(count, functions);
+      table.d_t.resize(count, functions);
+      for (Eigen::Index q = 0; q < count; ++q) {
+        const auto [s, u] = irregular_rule.points[std::size_t(q)];
+        basis.evaluate(t, s, u, values);
+        for (Eigen::Index k = 0; k < functions; ++k) {
+          table.value(q, k) = values.value[std::size_t(k)];
+          table.d_s(q, k) = values.d_s[std::size_t(k)];
+          table.d_t(q, k) = values.d_t[std::size_t(k)];
+        }
+      }
+      element.table = tables_.size();
+      tables_.push_back(std::move(table));
+    }
+    points += tables_[element.table].weight.size();
+    elements_.push_back(element);
+  }
+  measure_.resize(points);
+  dual_s_.resize(points);
+  dual_t_.resize(points);
+  update_geometry();
+}
+
+void LoopAssembler::update_geometry() {
+  const auto& positions = mesh_.mesh().positions;
+  const auto count = std::int64_t(elements_.size());
+  std::int64_t degenerate = count;
+#pragma omp parallel for schedule(static) reduction(min : degenerate)
+  for (std::int64_t e = 0; e < count; ++e) {
+    const Element& element = elements_[std::size_t(e)];
+    const Table& table = tables_[element.table];
+    for (Eigen::Index q = 0; q < table.value.rows(); ++q) {
+      Eigen::Vector3d x_s = Eigen::Vector3d::Zero(), x_t = Eigen::Vector3d::Zero();
+      for (Eigen::Index k = 0; k < table.value.cols(); ++k) {
+        const auto& x = positions[std::size_t(controls_[element.first_control + std::size_t(k)])];
+        x_s += table.d_s(q, k) * x;
+        x_t += table.d_t(q, k) * x;
+      }
+      const double e_ss = x_s.dot(x_s), e_st = x_s.dot(x_t), e_tt = x_t.dot(x_t);
+      const double det = e_ss * e_tt - e_st * e_st;
+      const std::size_t point = element.first_point + std::size_t(q);
+      if (!(det > 0)) {
+        degenerate = std::min(degenerate, e);
+        continue;
+      }
+      measure_[point] = table.weight[std::size_t(q)] * std::sqrt(det);
+      dual_s_[point] = (e_tt * x_s - e_st * x_t) / det;
+      dual_t_[point] = (e_ss * x_t - e_st * x_s) / det;
+    }
+  }
+  TEXSIM_VERIFY(degenerate == count, "Loop basis: the limit surface is degenerate on triangle "
+                                         << elements_[std::size_t(degenerate)].triangle);
+}
+
+std::vector<double> LoopAssembler::mass_values(std::span<const double> weight, bool lumped) const {
+  std::vector<double> entries(std::size_t(assembly_.entry_count()), 0.0);
+  const auto count = std::int64_t(elements_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t e = 0; e < count; ++e) {
+    const Element& element = elements_[std::size_t(e)];
+    const Table& table = tables_[element.table];
+    const Eigen::Index functions = table.value.cols();
+    Eigen::VectorXd w(table.value.rows());
+    for (Eigen::Index q = 0; q < w.size(); ++q) {
+      double coefficient = 1.0;
+      if (!weight.empty()) {
+        coefficient = 0.0;
+        for (Eigen::Index k = 0; k < functions; ++k)
+          coefficient += table.value(q, k) *
+                         weight[std::size_t(controls_[element.first_control + std::size_t(k)])];
+      }
+      w[q] = measure_[element.first_point + std::size_t(q)] * coefficient;
+    }
+    const Eigen::MatrixXd block = table.value.transpose() * w.asDiagonal() * table.value;
+    double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
+    for (Eigen::Index i = 0; i < functions; ++i) {
+      if (lumped) // the row sum, int w phi_i (the functions sum to 1)
+        out[i * functions + i] = block.row(i).sum();
+      else
+        for (Eigen::Index j = 0; j < functions; ++j)
+          out[i * functions + j] = block(i, j);
+    }
+  }
+  return assembly_.sum_entries(entries);
+}
+
+std::vector<double> LoopAssembler::stiffness_values(std::span<const double> tensors) const {
+  std::vector<double> entries(std::size_t(assembly_.entry_count()), 0.0);
+  const auto count = std::int64_t(elements_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t e = 0; e < count; ++e) {
+    const Element& element = elements_[std::size_t(e)];
+    const Table& table = tables_[element.table];
+    const Eigen::Index functions = table.value.cols();
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(functions, functions);
+    Eigen::MatrixXd gradient(functions, 3);
+    for (Eigen::Index q = 0; q < table.value.rows(); ++q) {
+      const std::size_t point = element.first_point + std::size_t(q);
+      for (Eigen::Index k = 0; k < functions; ++k)
+        gradient.row(k) =
+            (table.d_s(q, k) * dual_s_[point] + table.d_t(q, k) * dual_t_[point]).transpose();
+      Eigen::Matrix3d tensor = Eigen::Matrix3d::Identity();
+      if (!tensors.empty()) {
+        tensor.setZero();
+        for (Eigen::Index k = 0; k < functions; ++k)
+          tensor += table.value(q, k) *
+                    Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+                        tensors.data() +
+                        9 * std::size_t(controls_[element.first_control + std::size_t(k)]));
+      }
+      block += measure_[point] * gradient * tensor * gradient.transpose();
+    }
+    double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
+    for (Eigen::Index i = 0; i < functions; ++i)
+      for (Eigen::Index j = 0; j < functions; ++j)
+        out[i * functions + j] = block(i, j);
+  }
+  return assembly_.sum_entries(entries);
+}
+
+} // namespace texsim::pipelines::fem_rd
