@@ -160,6 +160,28 @@ TEST_F(FemRdRestart, AtTheSameRankCountEndsBitIdentical) {
   EXPECT_TRUE(test::temporary_files_under(b).empty());
 }
 
+TEST(FemRdRestartLoopBasis, AtTheSameRankCountEndsBitIdentical) {
+  // The same kill and restart in the C1 Loop basis, whose coefficients live on the whole 3-ring
+  // halo and whose frames hold limit points and values.
+  const fs::path dir = test::scratch_dir("fem_rd_restart_loop");
+  const fs::path a = dir / "a", b = dir / "b";
+  const std::string loop = "--set fem_rd.basis=loop";
+  const auto uninterrupted = run_smoke(2, a, loop + " --quiet");
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.output;
+  ASSERT_NO_FATAL_FAILURE(copy_killed_after_middle_checkpoint(a, b));
+  const auto restarted = run_smoke(2, b, loop + " --restart");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  expect_restarted_at_middle(restarted, b);
+  const FinalState x = read_final_state(a), y = read_final_state(b);
+  ASSERT_EQ(x.real.size(), 4u);
+  for (const auto& [name, values] : x.real)
+    EXPECT_TRUE(same_bits(values, y.real.at(name))) << name << " differs after the restart";
+  for (int piece = 0; piece < 2; ++piece) {
+    const std::string frame = "frames/step_000000040/step_000000040_" + std::to_string(piece) + ".vtu";
+    EXPECT_EQ(test::read_text(a / frame), test::read_text(b / frame)) << frame;
+  }
+}
+
 TEST_F(FemRdRestart, FramesHoldIntegerIdsAndNoTemporaryFileIsLeft) {
   EXPECT_TRUE(test::temporary_files_under(run_a()).empty());
   std::vector<fs::path> frames;

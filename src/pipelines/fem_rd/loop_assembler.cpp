@@ -102,6 +102,7 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list
   const TriangleRule irregular_rule = subdivided_rule(regular_rule, kIrregularSplit);
   Table regular;
   const auto regular_points = Eigen::Index(regular_rule.points.size());
+  TEXSIM_VERIFY(regular_points == kRegularPoints, "Loop basis: " << regular_points << " points");
   regular.weight = regular_rule.weights;
   regular.value.resize(regular_points, 12);
   regular.d_s.resize(regular_points, 12);
@@ -189,31 +190,62 @@ void LoopAssembler::update_geometry() {
 std::vector<double> LoopAssembler::mass_values(std::span<const double> weight, bool lumped) const {
   std::vector<double> entries(std::size_t(assembly_.entry_count()), 0.0);
   const auto count = std::int64_t(elements_.size());
+  // Regular elements (nearly all) in fixed-size matrices, as sums over the points of the shared
+  // products phi_i phi_j (i <= j): this runs every step.
+  using RegularValues = Eigen::Matrix<double, kRegularPoints, 12>;
+  const RegularValues regular = tables_.front().value;
+  Eigen::Matrix<double, 78, kRegularPoints> products;
+  for (int i = 0, pair = 0; i < 12; ++i)
+    for (int j = i; j < 12; ++j, ++pair)
+      products.row(pair) = regular.col(i).cwiseProduct(regular.col(j)).transpose();
 #pragma omp parallel for schedule(static)
   for (std::int64_t e = 0; e < count; ++e) {
     const Element& element = elements_[std::size_t(e)];
     const Table& table = tables_[element.table];
     const Eigen::Index functions = table.value.cols();
+    const auto control_weight = [&](Eigen::Index k) {
+      return weight[std::size_t(controls_[element.first_control + std::size_t(k)])];
+    };
+    const auto store = [&](const auto& block) {
+      double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
+      for (Eigen::Index i = 0; i < functions; ++i) {
+        if (lumped) // the row sum, int w phi_i (the functions sum to 1)
+          out[i * functions + i] = block.row(i).sum();
+        else
+          for (Eigen::Index j = 0; j < functions; ++j)
+            out[i * functions + j] = block(i, j);
+      }
+    };
+    if (element.table == 0) {
+      Eigen::Matrix<double, kRegularPoints, 1> w =
+          Eigen::Map<const Eigen::Matrix<double, kRegularPoints, 1>>(measure_.data() +
+                                                                     element.first_point);
+      if (!weight.empty()) {
+        Eigen::Matrix<double, 12, 1> at_controls;
+        for (Eigen::Index k = 0; k < 12; ++k)
+          at_controls[k] = control_weight(k);
+        w = w.cwiseProduct(regular * at_controls);
+      }
+      const Eigen::Matrix<double, 78, 1> sums = products * w;
+      Eigen::Matrix<double, 12, 12> block;
+      for (int i = 0, pair = 0; i < 12; ++i)
+        for (int j = i; j < 12; ++j, ++pair)
+          block(i, j) = block(j, i) = sums[pair];
+      store(block);
+      continue;
+    }
     Eigen::VectorXd w(table.value.rows());
     for (Eigen::Index q = 0; q < w.size(); ++q) {
       double coefficient = 1.0;
       if (!weight.empty()) {
         coefficient = 0.0;
         for (Eigen::Index k = 0; k < functions; ++k)
-          coefficient += table.value(q, k) *
-                         weight[std::size_t(controls_[element.first_control + std::size_t(k)])];
+          coefficient += table.value(q, k) * control_weight(k);
       }
       w[q] = measure_[element.first_point + std::size_t(q)] * coefficient;
     }
     const Eigen::MatrixXd block = table.value.transpose() * w.asDiagonal() * table.value;
-    double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
-    for (Eigen::Index i = 0; i < functions; ++i) {
-      if (lumped) // the row sum, int w phi_i (the functions sum to 1)
-        out[i * functions + i] = block.row(i).sum();
-      else
-        for (Eigen::Index j = 0; j < functions; ++j)
-          out[i * functions + j] = block(i, j);
-    }
+    store(block);
   }
   return assembly_.sum_entries(entries);
 }

@@ -42,6 +42,9 @@ public:
   std::size_t irregular_count() const { return tables_.size() - 1; }
 
 private:
+  /// Quadrature points of a regular triangle (the collapsed 4 x 4 Gauss rule).
+  static constexpr int kRegularPoints = 16;
+
   /// The elements (triangles within one ring of an owned vertex) and their controls.
   struct ElementList {
     std::vector<std::int32_t> triangles;
