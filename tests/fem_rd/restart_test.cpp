@@ -177,7 +177,8 @@ TEST(FemRdRestartLoopBasis, AtTheSameRankCountEndsBitIdentical) {
   for (const auto& [name, values] : x.real)
     EXPECT_TRUE(same_bits(values, y.real.at(name))) << name << " differs after the restart";
   for (int piece = 0; piece < 2; ++piece) {
-    const std::string frame = "frames/step_000000040/step_000000040_" + std::to_string(piece) + ".vtu";
+    const std::string frame =
+        "frames/step_000000040/step_000000040_" + std::to_string(piece) + ".vtu";
     EXPECT_EQ(test::read_text(a / frame), test::read_text(b / frame)) << frame;
   }
 }
