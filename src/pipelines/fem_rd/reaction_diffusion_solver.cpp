@@ -238,6 +238,10 @@ void ReactionDiffusionSolver::assemble_field_stiffness() {
   const auto count = std::size_t(assembler_->coefficient_count());
   std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
   par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh(), count, state); });
+  // Tangent planes at the halo's rim come from cut-off fans; Loop's controls reach that far, so
+  // every non-owned tensor is taken from its owner.
+  if (count > std::size_t(mesh_.local_count()))
+    mesh_.update_halo(tensors, 9);
   field_stiffness_ = assembler_->stiffness_values(tensors);
 }
 
