@@ -13,6 +13,7 @@
 #include "pipelines/fem_rd/element_assembly.hpp"
 
 #include <span>
+#include <string>
 #include <vector>
 
 namespace texsim::pipelines::fem_rd {
@@ -34,6 +35,8 @@ public:
   /// How many local vertices a coefficient array must cover (the functions of this rank's
   /// elements): owned and ghosts for P1, the whole local mesh for Loop's wider supports.
   virtual std::int32_t coefficient_count() const = 0;
+  /// The basis and this rank's elements, for the log.
+  virtual std::string description() const = 0;
 
   /// A MATMPIAIJ matrix with this pattern and zero values. Collective.
   par::PetscMat create_matrix(const par::Comm& comm) const { return assembly_.create_matrix(comm); }

@@ -27,6 +27,19 @@ bool smooths_at(const FemRdSettings& settings, std::int64_t step) {
          step / settings.smoothing_every < settings.smoothing_steps;
 }
 
+/// The RD matrices are rebuilt at steps 0, rebuild_every, ... when the surface was smoothed since
+/// the previous one (matrices of an unchanged surface would be the same bits); the same answer on
+/// every rank and after a restart.
+bool rebuilds_at(const FemRdSettings& settings, std::int64_t step) {
+  if (!settings.smoothing || step % settings.rebuild_every != 0)
+    return false;
+  for (std::int64_t s = std::max<std::int64_t>(0, step - settings.rebuild_every + 1); s <= step;
+       ++s)
+    if (smooths_at(settings, s))
+      return true;
+  return false;
+}
+
 struct SurfaceMeasures {
   double area = 0;
   double normal_deviation_deg = 0;
@@ -169,7 +182,7 @@ void FemRdPipeline::run(RunContext& ctx) {
           solver.set_owned_values(s, owned);
         }
     }
-    if (settings_.smoothing && step % settings_.rebuild_every == 0) {
+    if (rebuilds_at(settings_, step)) {
       auto stage = ctx.timers.scope("rebuild");
       solver.rebuild_geometry();
       geometry.matrix_positions = mesh->mesh().positions;

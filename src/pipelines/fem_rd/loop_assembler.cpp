@@ -56,8 +56,10 @@ TriangleRule subdivided_rule(const TriangleRule& rule, int n) {
   return result;
 }
 
-/// Sub-triangles per side of an irregular triangle's quadrature: two subdivisions.
-constexpr int kIrregularSplit = 4;
+/// Sub-triangles per side of an irregular triangle's quadrature: one subdivision, 64 points. On
+/// the sphere test 1, 2 and 4 give the same errors to 3e-5 relative; 2 leaves room for the
+/// rougher functions around high or low valences.
+constexpr int kIrregularSplit = 2;
 
 ElementAssembly element_assembly(const geom::DistributedMesh& mesh,
                                  const std::vector<std::int64_t>& offsets,
@@ -154,6 +156,12 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list
   dual_s_.resize(points);
   dual_t_.resize(points);
   update_geometry();
+}
+
+std::string LoopAssembler::description() const {
+  return "Loop C1 box splines, " + std::to_string(elements_.size()) + " elements (" +
+         std::to_string(irregular_count()) + " irregular, " + std::to_string(measure_.size()) +
+         " quadrature points)";
 }
 
 void LoopAssembler::update_geometry() {

@@ -8,8 +8,8 @@
 /// the corners' 1-rings on an irregular one, evaluated by subdivision down to a regular
 /// sub-triangle and kept per triangle, as the paper does for its few irregular patches. Regular
 /// triangles take a collapsed 4 x 4 Gauss-Legendre rule (exact to degree 7 in s, t); an
-/// irregular triangle the same rule on each of its 16 sub-triangles of two subdivisions, where
-/// its functions are smooth pieces.
+/// irregular triangle the same rule on each of its 4 sub-triangles, closer to the pieces its
+/// functions are smooth on.
 ///
 /// A rank's elements are the triangles within one ring of its owned vertices (every triangle
 /// whose controls include an owned vertex); their controls reach three rings out, which
@@ -36,6 +36,7 @@ public:
   std::vector<double> mass_values(std::span<const double> weight, bool lumped) const override;
   std::vector<double> stiffness_values(std::span<const double> tensors) const override;
   std::int32_t coefficient_count() const override { return mesh_.mesh().num_vertices(); }
+  std::string description() const override;
 
   /// Elements of this rank and how many of them are irregular (for the log and tests).
   std::size_t element_count() const { return elements_.size(); }

@@ -36,6 +36,9 @@ public:
   std::vector<double> mass_values(std::span<const double> weight, bool lumped) const override;
   std::vector<double> stiffness_values(std::span<const double> tensors) const override;
   std::int32_t coefficient_count() const override { return mesh_.local_count(); }
+  std::string description() const override {
+    return "P1 hats, " + std::to_string(corners_.size()) + " elements";
+  }
 
 private:
   const geom::DistributedMesh& mesh_;

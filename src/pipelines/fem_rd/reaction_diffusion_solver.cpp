@@ -54,6 +54,7 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
     fields_[s]->set_owned(std::span(initial[s]).first(mesh.owned_count()));
 
   diffusion_ = species_diffusion();
+  log::info(log::cat("fem_rd: basis ", assembler_->description(), " on rank 0"));
   preconditioner_ = choose_preconditioner();
   for (std::size_t s = 0; s < names_.size(); ++s)
     solvers_.push_back(std::make_unique<par::CgSolver>(comm, options.rtol, preconditioner_));
