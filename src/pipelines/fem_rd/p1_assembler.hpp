@@ -1,5 +1,6 @@
 #pragma once
-/// Assembly of P1 (linear) finite element matrices on a DistributedMesh: each rank computes the
+/// Assembly of P1 (linear) finite element matrices on a DistributedMesh (a FemAssembler; the
+/// pattern and sums are ElementAssembly's): each rank computes the
 /// rows it owns from the triangles touching its vertices (no off-process entries), into
 /// MATMPIAIJ matrices that all share one sparsity pattern, so a matrix is updated in place and
 /// only the terms whose coefficients change are recomputed (Bajaj et al., section 4).

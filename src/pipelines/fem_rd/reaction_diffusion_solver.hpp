@@ -4,8 +4,9 @@
 /// w = 1 - tau C2-, where C2 and C3 come from the state at step n, C2- = min(C2, 0) is treated
 /// implicitly and C2+ = max(C2, 0) explicitly. Keeping the growing part explicit keeps the matrix
 /// symmetric positive definite for any tau, which conjugate gradients (the paper's solver) needs;
-/// the consistency of the scheme is unchanged (first order in tau either way). M is the P1 mass
-/// matrix (consistent, or lumped as an option), K the stiffness matrix; both depend only on the
+/// the consistency of the scheme is unchanged (first order in tau either way). M is the mass
+/// matrix of the basis (P1 hats or Loop's C1 box splines, FemAssembler; consistent, or lumped as
+/// an option), K the stiffness matrix; both depend only on the
 /// geometry and are rebuilt by rebuild_geometry(); each step recomputes only the weighted mass.
 ///
 /// Preconditioner: point Jacobi on the step matrix when CG + Jacobi converges within
