@@ -238,7 +238,10 @@ bool LoopPatchBasis::is_regular(std::int32_t t) const {
 
 namespace {
 
-/// Triangle t with its corners' stars, numbered by increasing vertex id (the controls).
+/// Triangle t with its corners' stars, numbered canonically (the controls, in that order): the
+/// corners a, b, c as 0, 1, 2, then the vertices met walking each corner's fan counter-clockwise
+/// from the triangle's next corner. Triangles whose neighbourhoods have the same structure get the
+/// same local patch, so every computation on it gives the same bits.
 LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, std::int32_t t,
                       std::vector<std::int32_t>& controls) {
   std::vector<std::int32_t> star;
@@ -248,21 +251,48 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
   }
   std::sort(star.begin(), star.end());
   star.erase(std::unique(star.begin(), star.end()), star.end());
-  controls.clear();
-  for (const std::int32_t s : star)
-    controls.insert(controls.end(), mesh.triangles[s].begin(), mesh.triangles[s].end());
-  std::sort(controls.begin(), controls.end());
-  controls.erase(std::unique(controls.begin(), controls.end()), controls.end());
+  const auto& tri = mesh.triangles[t];
+  controls.assign(tri.begin(), tri.end());
   const auto local = [&](std::int32_t v) {
-    return int(std::lower_bound(controls.begin(), controls.end(), v) - controls.begin());
+    return int(std::find(controls.begin(), controls.end(), v) - controls.begin());
   };
+  // The star triangle (v, w, x) in counter-clockwise order: x follows w around v.
+  const auto next_around = [&](std::int32_t v, std::int32_t w) {
+    for (const std::int32_t s : star) {
+      const auto& around = mesh.triangles[s];
+      for (int k = 0; k < 3; ++k)
+        if (around[k] == v && around[(k + 1) % 3] == w)
+          return around[(k + 2) % 3];
+    }
+    return std::int32_t{-1};
+  };
+  for (int c = 0; c < 3; ++c) {
+    const std::int32_t v = tri[c], first = tri[(c + 1) % 3];
+    std::int32_t w = first;
+    for (std::size_t step = 0; step < star.size(); ++step) {
+      w = next_around(v, w);
+      if (w < 0 || w == first)
+        break;
+      if (local(w) == int(controls.size()))
+        controls.push_back(w);
+    }
+  }
   LocalPatch patch;
   for (const std::int32_t s : star) {
-    const auto& tri = mesh.triangles[s];
-    patch.triangles.push_back({local(tri[0]), local(tri[1]), local(tri[2])});
+    const auto& around = mesh.triangles[s];
+    LocalTriangle numbered{local(around[0]), local(around[1]), local(around[2])};
+    std::rotate(numbered.begin(), std::min_element(numbered.begin(), numbered.end()),
+                numbered.end());
+    patch.triangles.push_back(numbered);
   }
-  const auto& tri = mesh.triangles[t];
-  patch.corners = {local(tri[0]), local(tri[1]), local(tri[2])};
+  std::sort(patch.triangles.begin(), patch.triangles.end());
+  TEXSIM_VERIFY(std::all_of(patch.triangles.begin(), patch.triangles.end(),
+                            [&](const auto& numbered) {
+                              return std::all_of(numbered.begin(), numbered.end(),
+                                                 [&](int v) { return v < int(controls.size()); });
+                            }),
+                "Loop basis: the stars of triangle " << t << "'s corners are not closed fans");
+  patch.corners = {0, 1, 2};
   patch.weights =
       Eigen::MatrixXd::Identity(Eigen::Index(controls.size()), Eigen::Index(controls.size()));
   return patch;
@@ -272,21 +302,31 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
 
 std::vector<std::int32_t> LoopPatchBasis::controls(std::int32_t t) const {
   TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
-  std::vector<std::int32_t> sorted;
-  const LocalPatch patch = star_patch(mesh_, topology_, t, sorted);
+  std::vector<std::int32_t> canonical;
+  const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
   if (!is_regular_patch(patch))
-    return sorted;
+    return canonical;
   std::vector<std::int32_t> lattice;
   for (const int v : regular_lattice(patch))
-    lattice.push_back(sorted[std::size_t(v)]);
+    lattice.push_back(canonical[std::size_t(v)]);
   return lattice;
+}
+
+std::vector<std::int32_t> LoopPatchBasis::structure(std::int32_t t) const {
+  TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
+  std::vector<std::int32_t> canonical;
+  const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
+  std::vector<std::int32_t> flat;
+  for (const auto& numbered : patch.triangles)
+    flat.insert(flat.end(), numbered.begin(), numbered.end());
+  return flat;
 }
 
 void LoopPatchBasis::evaluate(std::int32_t t, double s, double t_param,
                               PatchBasisValues& out) const {
   TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
-  std::vector<std::int32_t> sorted;
-  LocalPatch patch = star_patch(mesh_, topology_, t, sorted);
+  std::vector<std::int32_t> canonical;
+  LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
   if (is_regular_patch(patch)) {
     const auto basis = regular_patch_basis(s, t_param);
     out.value.assign(basis.value.begin(), basis.value.end());

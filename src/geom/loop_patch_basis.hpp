@@ -43,8 +43,13 @@ public:
   /// Three corners of valence 6 (t evaluable).
   bool is_regular(std::int32_t t) const;
   /// The controls of triangle t: for a regular triangle the 12 vertices in kRegularPatchLattice
-  /// order (corner order of the mesh's triangle), otherwise its corners' 1-rings, increasing.
+  /// order (corner order of the mesh's triangle), otherwise its corners' 1-rings in a canonical
+  /// order (the corners, then each corner's fan counter-clockwise).
   std::vector<std::int32_t> controls(std::int32_t t) const;
+  /// The combinatorial structure of triangle t's neighbourhood: its corners' stars in the
+  /// numbering of controls(t). Triangles of equal structure have the same functions at the same
+  /// (s, t), to the bit (the paper's classes of triangles with equal valences).
+  std::vector<std::int32_t> structure(std::int32_t t) const;
   /// The functions of controls(t) at (s, t_param) of triangle t.
   void evaluate(std::int32_t t, double s, double t_param, PatchBasisValues& out) const;
 

@@ -8,7 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <numeric>
 
 namespace texsim::geom {
@@ -84,6 +87,38 @@ TEST(LoopPatchBasis, PartitionOfUnityAndDerivativesOfTheValues) {
         EXPECT_NEAR((up.value[k] - at.value[k]) / h, at.d_t[k], 1e-5);
       }
     }
+}
+
+TEST(LoopPatchBasis, TrianglesOfEqualStructureHaveTheSameFunctionsToTheBit) {
+  // A level-1 icosphere: 20 regular triangles, and 60 with one valence-5 corner, put at a, b or
+  // c by turning triangle t's corners t mod 3 times.
+  TriangleMesh mesh = noisy(icosphere(1), 0.05, 5);
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    auto& corners = mesh.triangles[std::size_t(t)];
+    std::rotate(corners.begin(), corners.begin() + t % 3, corners.end());
+  }
+  const MeshTopology topology(mesh);
+  const LoopPatchBasis basis(mesh, topology);
+  std::map<std::vector<std::int32_t>, std::vector<double>> values_of_class;
+  std::map<std::vector<std::int32_t>, int> members;
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    PatchBasisValues values;
+    basis.evaluate(t, 0.15, 0.05, values); // near corner a: deep subdivision when irregular
+    std::vector<double> all = values.value;
+    all.insert(all.end(), values.d_s.begin(), values.d_s.end());
+    all.insert(all.end(), values.d_t.begin(), values.d_t.end());
+    const auto structure = basis.structure(t);
+    ++members[structure];
+    const auto [first, inserted] = values_of_class.emplace(structure, all);
+    if (!inserted)
+      EXPECT_EQ(std::memcmp(first->second.data(), all.data(), all.size() * sizeof(double)), 0)
+          << "triangle " << t;
+  }
+  EXPECT_EQ(members.size(), 4u); // regular, and the extraordinary corner at a, b or c
+  int regular = 0;
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t)
+    regular += basis.is_regular(t) ? 1 : 0;
+  EXPECT_EQ(regular, 20);
 }
 
 TEST(LoopPatchBasis, RegularFunctionsReproduceLinearFunctions) {

@@ -3,7 +3,9 @@
 #include "core/error.hpp"
 #include "geom/loop_box_spline.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace texsim::pipelines::fem_rd {
 namespace {
@@ -60,6 +62,34 @@ TriangleRule subdivided_rule(const TriangleRule& rule, int n) {
 /// the sphere test 1, 2 and 4 give the same errors to 3e-5 relative; 2 leaves room for the
 /// rougher functions around high or low valences.
 constexpr int kIrregularSplit = 2;
+
+} // namespace
+
+LoopAssembler::Table
+LoopAssembler::irregular_table(const geom::LoopPatchBasis& basis, std::int32_t t,
+                               const std::vector<std::array<double, 2>>& points,
+                               const std::vector<double>& weights) {
+  Table table;
+  const auto count = Eigen::Index(points.size());
+  const auto functions = Eigen::Index(basis.controls(t).size());
+  table.weight = weights;
+  table.value.resize(count, functions);
+  table.d_s.resize(count, functions);
+  table.d_t.resize(count, functions);
+  geom::PatchBasisValues values;
+  for (Eigen::Index q = 0; q < count; ++q) {
+    const auto [s, u] = points[std::size_t(q)];
+    basis.evaluate(t, s, u, values);
+    for (Eigen::Index k = 0; k < functions; ++k) {
+      table.value(q, k) = values.value[std::size_t(k)];
+      table.d_s(q, k) = values.d_s[std::size_t(k)];
+      table.d_t(q, k) = values.d_t[std::size_t(k)];
+    }
+  }
+  return table;
+}
+
+namespace {
 
 ElementAssembly element_assembly(const geom::DistributedMesh& mesh,
                                  const std::vector<std::int64_t>& offsets,
@@ -121,7 +151,7 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list
   tables_.push_back(std::move(regular));
 
   const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology());
-  geom::PatchBasisValues values;
+  std::map<std::vector<std::int32_t>, std::size_t> table_of_structure;
   std::size_t points = 0;
   for (std::size_t e = 0; e < list.triangles.size(); ++e) {
     const std::int32_t t = list.triangles[e];
@@ -130,24 +160,11 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list
     element.first_control = std::size_t(list.offsets[e]);
     element.first_point = points;
     if (!basis.is_regular(t)) {
-      Table table;
-      const auto count = Eigen::Index(irregular_rule.points.size());
-      const auto functions = Eigen::Index(list.offsets[e + 1] - list.offsets[e]);
-      table.weight = irregular_rule.weights;
-      table.value.resize(count, functions);
-      table.d_s.resize(count, functions);
-      table.d_t.resize(count, functions);
-      for (Eigen::Index q = 0; q < count; ++q) {
-        const auto [s, u] = irregular_rule.points[std::size_t(q)];
-        basis.evaluate(t, s, u, values);
-        for (Eigen::Index k = 0; k < functions; ++k) {
-          table.value(q, k) = values.value[std::size_t(k)];
-          table.d_s(q, k) = values.d_s[std::size_t(k)];
-          table.d_t(q, k) = values.d_t[std::size_t(k)];
-        }
-      }
-      element.table = tables_.size();
-      tables_.push_back(std::move(table));
+      // One table per class of equal structure, as the paper computes its irregular patches.
+      const auto [known, inserted] = table_of_structure.emplace(basis.structure(t), tables_.size());
+      element.table = known->second;
+      if (inserted)
+        tables_.push_back(irregular_table(basis, t, irregular_rule.points, irregular_rule.weights));
     }
     points += tables_[element.table].weight.size();
     elements_.push_back(element);
@@ -158,10 +175,16 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list
   update_geometry();
 }
 
+std::size_t LoopAssembler::irregular_count() const {
+  return std::size_t(std::count_if(elements_.begin(), elements_.end(),
+                                   [](const Element& e) { return e.table != 0; }));
+}
+
 std::string LoopAssembler::description() const {
   return "Loop C1 box splines, " + std::to_string(elements_.size()) + " elements (" +
-         std::to_string(irregular_count()) + " irregular, " + std::to_string(measure_.size()) +
-         " quadrature points)";
+         std::to_string(irregular_count()) + " irregular in " +
+         std::to_string(irregular_class_count()) + " classes of equal structure, " +
+         std::to_string(measure_.size()) + " quadrature points)";
 }
 
 void LoopAssembler::update_geometry() {

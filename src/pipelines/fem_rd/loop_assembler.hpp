@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <vector>
 
 namespace texsim::pipelines::fem_rd {
@@ -38,9 +39,11 @@ public:
   std::int32_t coefficient_count() const override { return mesh_.mesh().num_vertices(); }
   std::string description() const override;
 
-  /// Elements of this rank and how many of them are irregular (for the log and tests).
+  /// Elements of this rank, how many of them are irregular and in how many classes of equal
+  /// structure (for the log).
   std::size_t element_count() const { return elements_.size(); }
-  std::size_t irregular_count() const { return tables_.size() - 1; }
+  std::size_t irregular_count() const;
+  std::size_t irregular_class_count() const { return tables_.size() - 1; }
 
 private:
   /// Quadrature points of a regular triangle (the collapsed 4 x 4 Gauss rule).
@@ -67,8 +70,13 @@ private:
     std::size_t first_point = 0; ///< into the per-point geometry
   };
 
+  /// The functions of triangle t's controls at the given points of the parameter triangle.
+  static Table irregular_table(const geom::LoopPatchBasis& basis, std::int32_t t,
+                               const std::vector<std::array<double, 2>>& points,
+                               const std::vector<double>& weights);
+
   const geom::DistributedMesh& mesh_;
-  std::vector<Table> tables_;
+  std::vector<Table> tables_; ///< [0] regular, then one per class of irregular triangles
   std::vector<Element> elements_;
   std::vector<std::int32_t> controls_; ///< local vertex ids, element after element
   /// Per quadrature point: weight times the area element, and the dual tangents a^s, a^t
