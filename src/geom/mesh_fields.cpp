@@ -1,7 +1,5 @@
 #include "geom/mesh_fields.hpp"
 
-#include "geom/mesh_reader.hpp"
-
 #include <algorithm>
 #include <cctype>
 
@@ -23,14 +21,6 @@ std::vector<std::string> read_mesh_fields(const ConfigSection& section, const Me
                                       name + "'");
   }
   return names;
-}
-
-SurfaceFieldSampler load_mesh_fields(const MeshSource& mesh,
-                                     const std::vector<std::string>& names) {
-  auto file = read_vertex_fields(mesh.file, names);
-  for (auto& position : file.mesh.positions)
-    position *= mesh.scale;
-  return SurfaceFieldSampler(file.mesh, std::move(file.values));
 }
 
 } // namespace texsim::geom

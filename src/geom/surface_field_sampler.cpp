@@ -3,6 +3,8 @@
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
 
+#include <algorithm>
+
 namespace texsim::geom {
 
 SurfaceFieldSampler::SurfaceFieldSampler(const TriangleMesh& mesh,
@@ -12,6 +14,25 @@ SurfaceFieldSampler::SurfaceFieldSampler(const TriangleMesh& mesh,
     TEXSIM_VERIFY(field.size() == mesh_.positions.size(),
                   "field with " << field.size() << " values on " << mesh_.positions.size()
                                 << " vertices");
+}
+
+SurfaceFieldSampler::Sampled SurfaceFieldSampler::sample_all(std::span<const Vec3> points) const {
+  Sampled sampled;
+  sampled.values.assign(values_.size(), std::vector<double>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto closest = tree_.closest_point(points[i]);
+    sampled.max_distance = std::max(sampled.max_distance, closest.distance);
+    const auto& t = mesh_.triangles[std::size_t(closest.triangle)];
+    const auto w =
+        barycentric_weights(mesh_.positions[std::size_t(t[0])], mesh_.positions[std::size_t(t[1])],
+                            mesh_.positions[std::size_t(t[2])], closest.point);
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+      const auto& field = values_[k];
+      sampled.values[k][i] = w[0] * field[std::size_t(t[0])] + w[1] * field[std::size_t(t[1])] +
+                             w[2] * field[std::size_t(t[2])];
+    }
+  }
+  return sampled;
 }
 
 std::vector<double> SurfaceFieldSampler::sample(std::size_t k, std::span<const Vec3> points) const {

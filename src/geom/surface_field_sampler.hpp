@@ -22,6 +22,14 @@ public:
   /// thread-safe.
   std::vector<double> sample(std::size_t k, std::span<const Vec3> points) const;
 
+  /// Every field at each point from one closest-point query per point, and the largest distance
+  /// from a point to the surface. Not collective.
+  struct Sampled {
+    std::vector<std::vector<double>> values; ///< [field][point]
+    double max_distance = 0;
+  };
+  Sampled sample_all(std::span<const Vec3> points) const;
+
 private:
   TriangleMesh mesh_;
   std::vector<std::vector<double>> values_;

@@ -7,8 +7,8 @@
 // that cannot use their mesh fields are refused, and leave the output directory free for the
 // corrected config.
 #include "geom/distributed_mesh.hpp"
+#include "geom/distributed_mesh_fields.hpp"
 #include "geom/generators.hpp"
-#include "geom/mesh_fields.hpp"
 #include "par/global_range.hpp"
 #include "pipelines/fem_rd/reaction_diffusion_solver.hpp"
 #include "support/run_command.hpp"
@@ -55,8 +55,8 @@ DiffusionFieldSettings from_mesh_fields(const fs::path& file) {
                                   {"rate", "tx", "ty", "tz"}, {}};
   geom::MeshSource source;
   source.file = file;
-  settings.mesh_field_values = std::make_shared<geom::SurfaceFieldSampler>(
-      geom::load_mesh_fields(source, settings.mesh_fields));
+  settings.mesh_field_values =
+      std::make_shared<geom::DistributedMeshFields>(par::world(), source, settings.mesh_fields);
   return settings;
 }
 
@@ -70,6 +70,7 @@ TEST(MeshFieldDiffusion, TensorsEqualThoseOfTheSameFormulas) {
   const DiffusionField fields(from_mesh_fields(file), {"u"});
   const std::vector<double> zero(count, 0.0), one(count, 1.0);
   const auto expected = formulas.tensors(mesh.mesh(), count, {std::span<const double>(zero)});
+  fields.update_mesh_fields(mesh.mesh());
   const auto got = fields.tensors(mesh.mesh(), count, {std::span<const double>(zero)});
   ASSERT_EQ(got.size(), expected.size());
   double worst = 0;
@@ -80,6 +81,7 @@ TEST(MeshFieldDiffusion, TensorsEqualThoseOfTheSameFormulas) {
   DiffusionFieldSettings both = from_mesh_fields(file);
   both.scale = "rate * (1 + u)";
   const DiffusionField mixed(both, {"u"});
+  mixed.update_mesh_fields(mesh.mesh());
   const auto doubled = mixed.tensors(mesh.mesh(), count, {std::span<const double>(one)});
   for (std::size_t k = 0; k < got.size(); ++k)
     ASSERT_NEAR(doubled[k], 2 * got[k], 1e-12);

@@ -5,6 +5,7 @@
 #include "geom/mesh_measures.hpp"
 
 #include <Eigen/Core>
+#include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
@@ -94,16 +95,24 @@ std::vector<std::span<const double>> first(const std::vector<std::vector<double>
 }
 } // namespace
 
-const std::vector<std::vector<double>>&
-DiffusionField::mesh_fields_at(const geom::TriangleMesh& mesh) const {
-  if (settings_.mesh_fields.empty() || mesh.positions == sampled_positions_)
-    return sampled_values_;
+void DiffusionField::update_mesh_fields(const geom::TriangleMesh& mesh) const {
+  if (settings_.mesh_fields.empty())
+    return;
   TEXSIM_VERIFY(settings_.mesh_field_values,
                 "fem_rd.mesh_fields were not loaded before the diffusion field was evaluated");
-  sampled_values_.clear();
-  for (std::size_t k = 0; k < settings_.mesh_fields.size(); ++k)
-    sampled_values_.push_back(settings_.mesh_field_values->sample(k, mesh.positions));
+  const auto& fields = *settings_.mesh_field_values;
+  int moved = mesh.positions != sampled_positions_ ? 1 : 0, any_moved = 0;
+  MPI_Allreduce(&moved, &any_moved, 1, MPI_INT, MPI_MAX, fields.comm().raw);
+  if (!any_moved)
+    return;
+  sampled_values_ = fields.sample(mesh.positions);
   sampled_positions_ = mesh.positions;
+}
+
+const std::vector<std::vector<double>>&
+DiffusionField::mesh_fields_at(const geom::TriangleMesh& mesh) const {
+  TEXSIM_VERIFY(settings_.mesh_fields.empty() || mesh.positions == sampled_positions_,
+                "fem_rd.mesh_fields were not sampled at these positions (update_mesh_fields)");
   return sampled_values_;
 }
 

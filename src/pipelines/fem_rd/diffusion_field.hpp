@@ -15,9 +15,9 @@
 /// A tensor of the geometry only is assembled into K once per mesh rebuild; one that reads the
 /// species is assembled every step from u^n (ReactionDiffusionSolver).
 #include "core/config.hpp"
+#include "geom/distributed_mesh_fields.hpp"
 #include "geom/mesh_source.hpp"
 #include "geom/point_expression.hpp"
-#include "geom/surface_field_sampler.hpp"
 #include "geom/triangle_mesh.hpp"
 
 #include <array>
@@ -37,9 +37,10 @@ struct DiffusionFieldSettings {
   std::vector<std::string> species;                    ///< empty: every species
   /// fem_rd.mesh_fields: point arrays of fem_rd.mesh.file that direction and scale may read.
   std::vector<std::string> mesh_fields;
-  /// Their values (field k of mesh_fields), loaded by the pipeline before the solver is built;
-  /// may stay empty while only the formulas are checked.
-  std::shared_ptr<const geom::SurfaceFieldSampler> mesh_field_values;
+  /// Their values (field k of mesh_fields), loaded by the pipeline before the solver is built (the
+  /// file on rank 0, sampled for every rank's vertices); may stay empty while only the formulas
+  /// are checked.
+  std::shared_ptr<const geom::DistributedMeshFields> mesh_field_values;
 };
 
 /// The section fem_rd.diffusion with fem_rd.mesh_fields, or nothing when it is absent. InputError
@@ -60,6 +61,11 @@ public:
   /// Whether the scale reads a species' values: then the tensors change every step.
   bool depends_on_species() const { return depends_on_species_; }
 
+  /// Samples fem_rd.mesh_fields at `mesh`'s vertices when they moved on some rank since the last
+  /// call; tangent_directions() and tensors() read those values. Collective (a no-op without
+  /// mesh fields).
+  void update_mesh_fields(const geom::TriangleMesh& mesh) const;
+
   /// The unit direction t at every vertex of `mesh`: the field projected onto the tangent plane
   /// (the vertex normal's), zero where that leaves nothing.
   std::vector<geom::Vec3> tangent_directions(const geom::TriangleMesh& mesh) const;
@@ -70,8 +76,7 @@ public:
                               const std::vector<std::span<const double>>& species) const;
 
 private:
-  /// The mesh fields at every vertex of `mesh` (sampled once per geometry: the last positions'
-  /// values are kept).
+  /// The mesh fields at every vertex of `mesh`, as update_mesh_fields sampled them.
   const std::vector<std::vector<double>>& mesh_fields_at(const geom::TriangleMesh& mesh) const;
 
   DiffusionFieldSettings settings_;

@@ -4,8 +4,8 @@
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
 #include "geom/distributed_measures.hpp"
+#include "geom/distributed_mesh_fields.hpp"
 #include "geom/distributed_noise.hpp"
-#include "geom/mesh_fields.hpp"
 #include "geom/mesh_source.hpp"
 #include "io/pvd_series.hpp"
 #include "par/checkpoint_clock.hpp"
@@ -128,10 +128,8 @@ void FemRdPipeline::run(RunContext& ctx) {
   {
     auto stage = ctx.timers.scope("setup");
     if (settings_.diffusion && !settings_.diffusion->mesh_fields.empty())
-      par::run_collectively(comm, [&] { // each rank holds the file's surface for sampling
-        settings_.diffusion->mesh_field_values = std::make_shared<geom::SurfaceFieldSampler>(
-            geom::load_mesh_fields(settings_.mesh, settings_.diffusion->mesh_fields));
-      });
+      settings_.diffusion->mesh_field_values = std::make_shared<geom::DistributedMeshFields>(
+          comm, settings_.mesh, settings_.diffusion->mesh_fields);
     solver_owner = std::make_unique<ReactionDiffusionSolver>(comm, *mesh, *model_, settings_.rd,
                                                              settings_.diffusion);
     if (settings_.smoothing)

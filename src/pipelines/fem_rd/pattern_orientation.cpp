@@ -13,6 +13,7 @@ namespace texsim::pipelines::fem_rd {
 StripeOrientation stripe_orientation(const geom::DistributedMesh& mesh,
                                      std::span<const double> values, const DiffusionField& field) {
   const auto& surface = mesh.mesh();
+  field.update_mesh_fields(surface);
   const auto directions = field.tangent_directions(surface);
   std::vector<double> tt, tb, bb; // structure tensor entries of each owned triangle
   for (const std::int32_t t : mesh.owned_triangles()) {

@@ -237,6 +237,7 @@ void ReactionDiffusionSolver::rebuild_geometry() {
 void ReactionDiffusionSolver::assemble_field_stiffness() {
   const auto state = coefficient_state();
   const auto count = std::size_t(assembler_->coefficient_count());
+  field_->update_mesh_fields(mesh_.mesh());
   std::vector<double> tensors; // a bad scale on some ranks' vertices fails every rank
   par::run_collectively(comm_, [&] { tensors = field_->tensors(mesh_.mesh(), count, state); });
   // Tangent planes at the halo's rim come from cut-off fans; Loop's controls reach that far, so

@@ -4,6 +4,7 @@
 #include "core/log.hpp"
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
+#include "geom/distributed_mesh_fields.hpp"
 #include "geom/mesh_fields.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/point_expression.hpp"
@@ -54,14 +55,14 @@ FieldMap sample_mesh_fields(const par::Comm& comm, const TurkRdSettings& setting
   FieldMap fields;
   if (settings.mesh_fields.empty())
     return fields;
-  par::run_collectively(comm, [&] {
-    const auto sampler = geom::load_mesh_fields(settings.mesh, settings.mesh_fields);
-    std::vector<geom::Vec3> points;
-    for (const auto& p : cells.points())
-      points.push_back(p.position);
-    for (std::size_t k = 0; k < settings.mesh_fields.size(); ++k)
-      fields[settings.mesh_fields[k]] = sampler.sample(k, points);
-  });
+  // The file on rank 0 only; each rank gets the part of it near its cells.
+  const geom::DistributedMeshFields file(comm, settings.mesh, settings.mesh_fields);
+  std::vector<geom::Vec3> points;
+  for (const auto& p : cells.points())
+    points.push_back(p.position);
+  auto values = file.sample(points);
+  for (std::size_t k = 0; k < settings.mesh_fields.size(); ++k)
+    fields[settings.mesh_fields[k]] = std::move(values[k]);
   return fields;
 }
 
