@@ -35,6 +35,8 @@ EXPECTED = {
                "projected_efficiency_64_turk"], ["solid_work_model_matches_n8"]),
     "fluid": (["frame_s_n2", "frame_s_n1", "advect_s", "update_s", "create_s", "atlas_s",
                "write_s", "speedup_1_to_2", "patches"], []),
+    "loop-basis": (["functions_level2", "p1_ms_per_step_level2", "loop_ms_per_step_level2",
+                    "loop_over_p1_level2"], []),
     "surface-synthesis": (["relax_s_n2", "exact_s_n2", "tsvq_s_n2", "pruned_s_n2",
                            "speedup_1_to_2", "neighbourhood_error_exact", "neighbourhood_error_tsvq",
                            "neighbourhood_error_pruned", "tsvq_exact_fraction"], []),
