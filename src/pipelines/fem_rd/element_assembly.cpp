@@ -56,6 +56,10 @@ ElementAssembly::ElementAssembly(std::int32_t owned_begin, std::int32_t owned_en
         slots[std::size_t(entry_offsets_[e] + i * k + j)] =
             slot(functions[std::size_t(offsets[e] + i)], functions[std::size_t(offsets[e] + j)]);
   }
+  // Entry indices are read once per value every assembly: 32 bits halve that traffic.
+  TEXSIM_VERIFY(entry_offsets_.back() <= std::int64_t(UINT32_MAX),
+                "element assembly: " << entry_offsets_.back() << " entries on one rank (at most "
+                                     << UINT32_MAX << "); use more ranks");
   source_offsets_.assign(columns_.size() + 1, 0);
   for (const std::int64_t s : slots)
     if (s >= 0)
@@ -66,10 +70,10 @@ ElementAssembly::ElementAssembly(std::int32_t owned_begin, std::int32_t owned_en
   std::vector<std::int64_t> next(source_offsets_.begin(), source_offsets_.end() - 1);
   for (std::size_t entry = 0; entry < slots.size(); ++entry)
     if (slots[entry] >= 0)
-      sources_[std::size_t(next[std::size_t(slots[entry])]++)] = std::int64_t(entry);
+      sources_[std::size_t(next[std::size_t(slots[entry])]++)] = std::uint32_t(entry);
 }
 
-std::vector<double> ElementAssembly::sum_entries(const std::vector<double>& entries) const {
+std::vector<double> ElementAssembly::sum_entries(std::span<const double> entries) const {
   TEXSIM_VERIFY(std::int64_t(entries.size()) == entry_count(),
                 "sum_entries: " << entries.size() << " entries for " << entry_count());
   std::vector<double> values(columns_.size());
@@ -77,7 +81,7 @@ std::vector<double> ElementAssembly::sum_entries(const std::vector<double>& entr
   for (std::size_t v = 0; v < values.size(); ++v) {
     double sum = 0.0;
     for (auto k = source_offsets_[v]; k < source_offsets_[v + 1]; ++k)
-      sum += entries[std::size_t(sources_[std::size_t(k)])];
+      sum += entries[sources_[std::size_t(k)]];
     values[v] = sum;
   }
   return values;

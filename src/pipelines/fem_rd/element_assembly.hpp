@@ -14,6 +14,7 @@
 #include <petscmat.h>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::fem_rd {
@@ -31,7 +32,7 @@ public:
   std::int64_t entry_count() const { return entry_offsets_.back(); }
 
   /// Pattern-ordered values from every element's entries.
-  std::vector<double> sum_entries(const std::vector<double>& entries) const;
+  std::vector<double> sum_entries(std::span<const double> entries) const;
 
   /// A MATMPIAIJ matrix with this pattern and zero values. Collective.
   par::PetscMat create_matrix(const par::Comm& comm) const;
@@ -48,7 +49,7 @@ private:
   /// For each value: the entries that add into it, increasing (entries [source_offsets_[v],
   /// source_offsets_[v + 1]) of sources_).
   std::vector<std::int64_t> source_offsets_;
-  std::vector<std::int64_t> sources_;
+  std::vector<std::uint32_t> sources_; ///< entry indices (a rank's entries fit 32 bits: checked)
 };
 
 } // namespace texsim::pipelines::fem_rd

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 namespace texsim::pipelines::fem_rd {
 namespace {
@@ -219,7 +220,8 @@ void LoopAssembler::update_geometry() {
 }
 
 std::vector<double> LoopAssembler::mass_values(std::span<const double> weight, bool lumped) const {
-  std::vector<double> entries(std::size_t(assembly_.entry_count()), 0.0);
+  // Every entry is written below: no zero fill (this runs every step).
+  const std::unique_ptr<double[]> entries(new double[std::size_t(assembly_.entry_count())]);
   const auto count = std::int64_t(elements_.size());
   // Regular elements (nearly all) in fixed-size matrices, as sums over the points of the shared
   // products phi_i phi_j (i <= j): this runs every step.
@@ -238,14 +240,10 @@ std::vector<double> LoopAssembler::mass_values(std::span<const double> weight, b
       return weight[std::size_t(controls_[element.first_control + std::size_t(k)])];
     };
     const auto store = [&](const auto& block) {
-      double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
-      for (Eigen::Index i = 0; i < functions; ++i) {
-        if (lumped) // the row sum, int w phi_i (the functions sum to 1)
-          out[i * functions + i] = block.row(i).sum();
-        else
-          for (Eigen::Index j = 0; j < functions; ++j)
-            out[i * functions + j] = block(i, j);
-      }
+      double* out = entries.get() + assembly_.entry_offset(std::size_t(e));
+      for (Eigen::Index i = 0; i < functions; ++i)
+        for (Eigen::Index j = 0; j < functions; ++j) // lumped: the row sum int w phi_i
+          out[i * functions + j] = lumped ? (i == j ? block.row(i).sum() : 0.0) : block(i, j);
     };
     if (element.table == 0) {
       Eigen::Matrix<double, kRegularPoints, 1> w =
@@ -278,11 +276,11 @@ std::vector<double> LoopAssembler::mass_values(std::span<const double> weight, b
     const Eigen::MatrixXd block = table.value.transpose() * w.asDiagonal() * table.value;
     store(block);
   }
-  return assembly_.sum_entries(entries);
+  return assembly_.sum_entries({entries.get(), std::size_t(assembly_.entry_count())});
 }
 
 std::vector<double> LoopAssembler::stiffness_values(std::span<const double> tensors) const {
-  std::vector<double> entries(std::size_t(assembly_.entry_count()), 0.0);
+  const std::unique_ptr<double[]> entries(new double[std::size_t(assembly_.entry_count())]);
   const auto count = std::int64_t(elements_.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t e = 0; e < count; ++e) {
@@ -307,12 +305,12 @@ std::vector<double> LoopAssembler::stiffness_values(std::span<const double> tens
       }
       block += measure_[point] * gradient * tensor * gradient.transpose();
     }
-    double* out = entries.data() + assembly_.entry_offset(std::size_t(e));
+    double* out = entries.get() + assembly_.entry_offset(std::size_t(e));
     for (Eigen::Index i = 0; i < functions; ++i)
       for (Eigen::Index j = 0; j < functions; ++j)
         out[i * functions + j] = block(i, j);
   }
-  return assembly_.sum_entries(entries);
+  return assembly_.sum_entries({entries.get(), std::size_t(assembly_.entry_count())});
 }
 
 } // namespace texsim::pipelines::fem_rd
