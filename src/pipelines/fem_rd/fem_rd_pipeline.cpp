@@ -224,7 +224,7 @@ void FemRdPipeline::run(RunContext& ctx) {
                                           {"max", range.max}};
     if (field) {
       const StripeOrientation orientation =
-          stripe_orientation(*mesh, solver.local_values(s), *field);
+          stripe_orientation(*mesh, on_surface, *field);
       species[solver.species_names()[s]]["stripes"] = {
           {"angle_to_field_deg", orientation.angle_to_field_deg},
           {"coherence", orientation.coherence}};
