@@ -223,8 +223,7 @@ void FemRdPipeline::run(RunContext& ctx) {
                                           {"min", range.min},
                                           {"max", range.max}};
     if (field) {
-      const StripeOrientation orientation =
-          stripe_orientation(*mesh, on_surface, *field);
+      const StripeOrientation orientation = stripe_orientation(*mesh, on_surface, *field);
       species[solver.species_names()[s]]["stripes"] = {
           {"angle_to_field_deg", orientation.angle_to_field_deg},
           {"coherence", orientation.coherence}};
