@@ -5,6 +5,7 @@
 #include "geom/aabb_tree.hpp"
 #include "geom/triangle_mesh.hpp"
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -31,6 +32,15 @@ public:
   Sampled sample_all(std::span<const Vec3> points) const;
 
 private:
+  /// A point's closest point: its triangle's corners, barycentric weights and distance.
+  struct Location {
+    Triangle corners;
+    std::array<double, 3> weights;
+    double distance;
+  };
+  Location locate(const Vec3& point) const;
+  double interpolate(const Location& at, std::size_t k) const;
+
   TriangleMesh mesh_;
   std::vector<std::vector<double>> values_;
   AabbTree tree_;

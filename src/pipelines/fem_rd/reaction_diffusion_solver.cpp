@@ -75,22 +75,25 @@ std::vector<std::span<const double>> ReactionDiffusionSolver::coefficient_state(
   }
   halo_state_.resize(fields_.size());
   for (std::size_t s = 0; s < fields_.size(); ++s) {
-    const auto local = fields_[s]->local();
-    halo_state_[s].assign(std::size_t(count), 0.0);
-    std::copy(local.begin(), local.end(), halo_state_[s].begin());
-    mesh_.update_halo(halo_state_[s]);
+    halo_state_[s] = on_whole_halo(s);
     state.push_back(halo_state_[s]);
   }
   return state;
+}
+
+std::vector<double> ReactionDiffusionSolver::on_whole_halo(std::size_t s) const {
+  const auto local = fields_[s]->local();
+  std::vector<double> values(std::size_t(mesh_.mesh().num_vertices()), 0.0);
+  std::copy(local.begin(), local.end(), values.begin());
+  mesh_.update_halo(values);
+  return values;
 }
 
 std::vector<double> ReactionDiffusionSolver::surface_values(std::size_t s) const {
   const auto local = fields_[s]->local();
   if (options_.basis == FemBasis::kP1)
     return {local.begin(), local.end()};
-  std::vector<double> coefficients(std::size_t(mesh_.mesh().num_vertices()), 0.0);
-  std::copy(local.begin(), local.end(), coefficients.begin());
-  mesh_.update_halo(coefficients);
+  const std::vector<double> coefficients = on_whole_halo(s);
   const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology());
   std::vector<double> values(local.size());
   for (std::int32_t v = 0; v < mesh_.local_count(); ++v)

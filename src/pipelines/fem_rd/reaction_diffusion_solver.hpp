@@ -94,6 +94,9 @@ private:
   /// coefficient_count): the ghosted vector's local part, or, for Loop's wider supports, the
   /// whole local mesh with the halo filled from the owners. Collective.
   std::vector<std::span<const double>> coefficient_state();
+  /// Species s at every vertex of the local mesh, the halo's values from their owners.
+  /// Collective.
+  std::vector<double> on_whole_halo(std::size_t s) const;
   /// K with fem_rd.diffusion's tensors at the current geometry and state. Collective.
   void assemble_field_stiffness();
   void clamp_to_lower_bound(std::size_t s);
