@@ -168,10 +168,12 @@ SolveTimes time_solves(const Comm& comm, int repeats, texsim::par::CgSolver& sol
 /// M_w + dt D K from the per-vertex weight w = 1 - dt min(C2, 0) and the stored stiffness, the
 /// same matrix from scratch, the right-hand side MatMult, the CG solve from u^n with the
 /// preconditioner rebuilt (as in every step) and reused, one MatMult with the system matrix
-/// and one ghost update. Collective.
+/// and one ghost update. The solve is timed with `pipeline_preconditioner` (what the RD solver
+/// chose for this mesh) and, under "icc", with block Jacobi + ICC(0). Collective.
 nlohmann::json measure_species_step(const Comm& comm, const DistributedMesh& mesh,
                                     const rd::ReactionModel& model,
                                     const std::vector<std::vector<double>>& state,
+                                    texsim::par::Preconditioner pipeline_preconditioner,
                                     const BenchSettings& settings) {
   const LocalVertices vertices = local_vertices(mesh);
   const std::vector<std::span<const double>> views(state.begin(), state.end());
@@ -231,32 +233,41 @@ nlohmann::json measure_species_step(const Comm& comm, const DistributedMesh& mes
   TEXSIM_PETSC_CALL(VecRestoreArray(u, &u_values));
   const double rhs_matmult_s = median_time(
       comm, 4 * settings.repeats, [&] { TEXSIM_PETSC_CALL(MatMult(mass, explicit_part, rhs)); });
-  texsim::par::CgSolver solver(comm, settings.rd_rtol);
-  const SolveTimes solve =
-      time_solves(comm, settings.repeats, solver, assembler, system, values, rhs, u, x);
   const double matmult_s =
       median_time(comm, 4 * settings.repeats, [&] { TEXSIM_PETSC_CALL(MatMult(system, u, x)); });
+  // The solve with the preconditioner the pipeline's solver chose, and with block Jacobi + ICC(0)
+  // (the stiffness-dominated default) for comparison.
+  const auto solve_json = [&](texsim::par::Preconditioner preconditioner) {
+    texsim::par::CgSolver solver(comm, settings.rd_rtol, preconditioner);
+    const SolveTimes solve =
+        time_solves(comm, settings.repeats, solver, assembler, system, values, rhs, u, x);
+    return nlohmann::json{
+        {"preconditioner", texsim::par::preconditioner_name(preconditioner)},
+        {"cg_solve_s", solve.with_setup_s},
+        {"cg_solve_reused_pc_s", solve.reused_s},
+        {"pc_setup_s", solve.with_setup_s - solve.reused_s},
+        {"cg_iters", solve.iterations},
+        {"cg_iteration_s", solve.reused_s / solve.iterations},
+        {"cg_iteration_over_matmult", solve.reused_s / solve.iterations / matmult_s}};
+  };
+  nlohmann::json result = solve_json(pipeline_preconditioner);
+  result["icc"] = solve_json(texsim::par::Preconditioner::kBlockJacobiIcc);
   texsim::par::GhostedVector field(comm, mesh.owned_count(), mesh.ghosts());
   const double ghost_update_s =
       median_time(comm, 4 * settings.repeats, [&] { field.update_ghosts(); });
   MatInfo info{};
   TEXSIM_PETSC_CALL(MatGetInfo(system, MAT_GLOBAL_SUM, &info));
-  return {{"coefficients_s", coefficients_s},
-          {"mass_values_s", mass_values_s},
-          {"stiffness_values_s", stiffness_values_s},
-          {"set_values_s", set_values_s},
-          {"assembly_s", assembly_s},
-          {"assembly_full_s", assembly_full_s},
-          {"rhs_matmult_s", rhs_matmult_s},
-          {"cg_solve_s", solve.with_setup_s},
-          {"cg_solve_reused_pc_s", solve.reused_s},
-          {"pc_setup_s", solve.with_setup_s - solve.reused_s},
-          {"cg_iters", solve.iterations},
-          {"cg_iteration_s", solve.reused_s / solve.iterations},
-          {"matmult_s", matmult_s},
-          {"cg_iteration_over_matmult", solve.reused_s / solve.iterations / matmult_s},
-          {"ghost_update_s", ghost_update_s},
-          {"matrix_nnz", static_cast<long long>(info.nz_used)}};
+  result.update({{"coefficients_s", coefficients_s},
+                 {"mass_values_s", mass_values_s},
+                 {"stiffness_values_s", stiffness_values_s},
+                 {"set_values_s", set_values_s},
+                 {"assembly_s", assembly_s},
+                 {"assembly_full_s", assembly_full_s},
+                 {"rhs_matmult_s", rhs_matmult_s},
+                 {"matmult_s", matmult_s},
+                 {"ghost_update_s", ghost_update_s},
+                 {"matrix_nnz", static_cast<long long>(info.nz_used)}});
+  return result;
 }
 
 /// One configuration of the reaction-diffusion step: a partition and a preconditioner
@@ -274,11 +285,12 @@ struct RdVariant {
 /// load on a shared machine affects them alike. The CG solves' share of a step comes from PETSc's
 /// event log (KSPSolve, which includes the preconditioner set-up: the matrix changes every
 /// step). `first_state` receives the local values of every species of the first variant at the
-/// end. Collective.
+/// end, `first_preconditioner` the preconditioner its solver chose. Collective.
 std::vector<nlohmann::json> measure_rd_steps(const Comm& comm, const rd::ReactionModel& model,
                                              const BenchSettings& settings,
                                              const std::vector<RdVariant>& variants,
-                                             std::vector<std::vector<double>>& first_state) {
+                                             std::vector<std::vector<double>>& first_state,
+                                             texsim::par::Preconditioner& first_preconditioner) {
   struct Run {
     std::unique_ptr<ReactionDiffusionSolver> solver;
     PetscLogStage stage = 0;
@@ -342,6 +354,7 @@ std::vector<nlohmann::json> measure_rd_steps(const Comm& comm, const rd::Reactio
                        {"steps_timed", variants[i].repeats},
                        {"state_finite", all_finite == 1}});
   }
+  first_preconditioner = runs.front().solver->preconditioner();
   first_state.clear();
   for (std::size_t s = 0; s < runs.front().solver->species_count(); ++s) {
     const auto local = runs.front().solver->local_values(s);
@@ -509,6 +522,7 @@ int main(int argc, char** argv) {
   // Scotch is the pipeline's default partition: the headline figures use it. The pieces of a
   // step are timed from the state the default run reached.
   std::vector<std::vector<double>> state;
+  texsim::par::Preconditioner rd_preconditioner{};
   const std::vector<nlohmann::json> rd_runs =
       measure_rd_steps(comm, *model, settings,
                        {{"scotch", scotch.get(), "default", settings.repeats},
@@ -516,13 +530,14 @@ int main(int argc, char** argv) {
                         {"jacobi", scotch.get(), "jacobi", settings.repeats},
                         {"icc_rcm", scotch.get(), "icc_rcm", settings.repeats},
                         {"gamg", scotch.get(), "gamg", 3}},
-                       state);
+                       state, rd_preconditioner);
   const nlohmann::json& rd = rd_runs[0];
   const nlohmann::json& rd_morton = rd_runs[1];
   const nlohmann::json& rd_jacobi = rd_runs[2];
   const nlohmann::json& rd_icc_rcm = rd_runs[3];
   const nlohmann::json& rd_gamg = rd_runs[4];
-  const nlohmann::json pieces = measure_species_step(comm, *scotch, *model, state, settings);
+  const nlohmann::json pieces =
+      measure_species_step(comm, *scotch, *model, state, rd_preconditioner, settings);
 
   const DistributedMesh unit_sphere(comm, texsim::geom::icosphere(settings.level, 1.0),
                                     PartitionMethod::kScotch);
@@ -580,7 +595,11 @@ int main(int argc, char** argv) {
         {"pc_setup_s", pieces["pc_setup_s"]},
         {"cg_iteration_s", pieces["cg_iteration_s"]},
         {"matmult_s", pieces["matmult_s"]},
+        {"cg_preconditioner", pieces["preconditioner"]},
         {"cg_iteration_over_matmult", pieces["cg_iteration_over_matmult"]},
+        {"cg_iteration_over_matmult_icc", pieces["icc"]["cg_iteration_over_matmult"]},
+        {"heat_cg_iteration_over_matmult",
+         double(heat["cg_iteration_s"]) / double(heat["matmult_s"])},
         {"heat_step_s", heat["heat_step_s"]},
         {"heat_step_min_s", heat["heat_step_min_s"]},
         {"heat_cg_iters", heat["heat_cg_iters"]},

@@ -20,7 +20,8 @@ import tempfile
 EXPECTED = {
     "checkpoint": (["write_MBps_n1", "write_MBps_n2", "read_verify_MBps_n2"], ["exact"]),
     "fem-step": (["vertices", "rd_step_s_n2", "heat_cg_iters", "dolfinx_step_s",
-                  "ratio_vs_dolfinx", "edge_cut_scotch_n2"], []),
+                  "ratio_vs_dolfinx", "edge_cut_scotch_n2", "cg_iteration_over_matmult_n2",
+                  "cg_iteration_over_matmult_icc_n2"], []),
     "similarity-set": (["voxels", "pruned_s_n2", "scan_s_n2", "scan_over_pruned_n2",
                         "exemplar_128_s_n2"], ["exact", "pruned_equals_scan"]),
     "solid-synthesis": (["features_64_s", "synth_128_s_n2", "synth_128_s_n1", "voxels_per_s_n2"],

@@ -79,6 +79,8 @@ public:
   /// CG statistics over all species' solves so far.
   const par::SolveStats& solve_stats(std::size_t s) const { return solvers_[s]->stats(); }
   std::string solver_description() const { return solvers_.front()->description(); }
+  /// The preconditioner of the RD solves (fixed by the options or chosen by the probe).
+  par::Preconditioner preconditioner() const { return preconditioner_; }
   /// The preconditioner in use, how it was chosen (the probe's iterations) and the CG iterations
   /// of every step so far (summed over species), for summary.json.
   nlohmann::json solver_metrics() const;
