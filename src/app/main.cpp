@@ -131,14 +131,15 @@ int execute(const par::Comm& comm, const CommandLine& line) {
   const std::int64_t peak = peak_resident_bytes();
   std::vector<std::int64_t> peaks(comm.is_root() ? static_cast<std::size_t>(comm.size) : 0);
   MPI_Gather(&peak, 1, MPI_INT64_T, peaks.data(), 1, MPI_INT64_T, 0, comm.raw);
+  const std::int64_t proportional =
+      std::max(timers.largest_proportional_bytes(), proportional_resident_bytes());
+  std::vector<std::int64_t> proportionals(peaks.size());
+  MPI_Gather(&proportional, 1, MPI_INT64_T, proportionals.data(), 1, MPI_INT64_T, 0, comm.raw);
   if (comm.is_root()) {
-    SummaryHeader header{run.common.pipeline,
-                         comm.size,
-                         omp_get_max_threads(),
-                         wall_seconds() - start_s,
-                         run.common.run.config_hash,
-                         run.common.run.restart.has_value(),
-                         std::move(peaks)};
+    SummaryHeader header{run.common.pipeline,        comm.size,
+                         omp_get_max_threads(),      wall_seconds() - start_s,
+                         run.common.run.config_hash, run.common.run.restart.has_value(),
+                         std::move(peaks),           std::move(proportionals)};
     write_summary(run.common.run.output_dir, header, timers, report);
   }
   log::info(log::cat("done in ", wall_seconds() - start_s,

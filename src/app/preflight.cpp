@@ -49,7 +49,7 @@ std::string memory_summary(const par::Comm& comm, const MemoryEstimate& estimate
   const int sharing = ranks_on_node(comm);
   if (estimate.bytes == 0)
     return "memory: not estimated for this pipeline";
-  std::string text = "memory: about " + format_bytes(with_baseline(estimate).bytes) +
+  std::string text = "memory: about " + format_bytes(with_baseline(estimate).per_rank(sharing)) +
                      " per rank at " + std::to_string(comm.size) + " ranks (" + estimate.key +
                      ": " + estimate.detail + ", plus about " + format_bytes(kBaselineBytes) +
                      " for the libraries)";

@@ -27,7 +27,10 @@ void write_summary(const std::filesystem::path& output_dir, const SummaryHeader&
     summary["memory"] = {
         {"peak_resident_bytes_per_rank", header.peak_resident_bytes},
         {"peak_resident_bytes_max",
-         *std::max_element(header.peak_resident_bytes.begin(), header.peak_resident_bytes.end())}};
+         *std::max_element(header.peak_resident_bytes.begin(), header.peak_resident_bytes.end())},
+        {"proportional_bytes_per_rank", header.proportional_bytes},
+        {"proportional_bytes_max",
+         *std::max_element(header.proportional_bytes.begin(), header.proportional_bytes.end())}};
   summary["metrics"] = report.metrics();
   summary["outputs"] = report.outputs();
 

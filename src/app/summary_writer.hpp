@@ -19,6 +19,9 @@ struct SummaryHeader {
   bool restarted = false;
   /// Peak resident memory of each rank (getrusage), for the memory-per-rank figures.
   std::vector<std::int64_t> peak_resident_bytes;
+  /// Each rank's largest proportional set size (PSS) seen at a stage end or at the end: memory
+  /// that the ranks of a node share (node-shared exemplar data, libraries) counts once per node.
+  std::vector<std::int64_t> proportional_bytes;
 };
 
 /// Writes <output_dir>/summary.json atomically (core/atomic_output.hpp). Rank 0 only.

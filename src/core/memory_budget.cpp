@@ -89,9 +89,10 @@ void require_memory(const MemoryEstimate& estimate, const std::optional<NodeMemo
   if (estimate.bytes == 0 || !node || ranks_on_node <= 0)
     return;
   const std::uint64_t per_rank = node->bytes / static_cast<std::uint64_t>(ranks_on_node);
-  if (estimate.bytes <= per_rank)
+  const std::uint64_t needed = estimate.per_rank(ranks_on_node);
+  if (needed <= per_rank)
     return;
-  TEXSIM_INPUT_ERROR(estimate.key << ": the run needs about " << format_bytes(estimate.bytes)
+  TEXSIM_INPUT_ERROR(estimate.key << ": the run needs about " << format_bytes(needed)
                                   << " per rank (" << estimate.detail << "), but "
                                   << format_bytes(per_rank) << " is available per rank ("
                                   << node->source << " " << format_bytes(node->bytes) << " over "

@@ -10,11 +10,32 @@
 
 namespace texsim {
 
+/// a * b, or UINT64_MAX when the product does not fit: sizes computed from user input saturate
+/// instead of wrapping around to a small number.
+constexpr std::uint64_t saturating_multiply(std::uint64_t a, std::uint64_t b) {
+  if (a != 0 && b > UINT64_MAX / a)
+    return UINT64_MAX;
+  return a * b;
+}
+
+/// a + b, or UINT64_MAX when the sum does not fit.
+constexpr std::uint64_t saturating_add(std::uint64_t a, std::uint64_t b) {
+  return a > UINT64_MAX - b ? UINT64_MAX : a + b;
+}
+
 /// Peak bytes per rank of a run, and the config key path that contributes most to it.
 struct MemoryEstimate {
-  std::uint64_t bytes = 0; ///< peak bytes per rank; 0 when not estimated
+  std::uint64_t bytes = 0; ///< peak bytes per rank (besides node_shared_bytes); 0: not estimated
   std::string key;         ///< e.g. "solid_synthesis.synthesis.size"
   std::string detail;      ///< what the estimate counts, e.g. "512^3 voxels x 3 levels"
+  /// Bytes held once per node whatever its rank count (par::NodeSharedArray), shared by its ranks.
+  std::uint64_t node_shared_bytes = 0;
+
+  /// What one of `ranks_on_node` ranks needs: its own bytes and its share of the node's.
+  std::uint64_t per_rank(int ranks_on_node) const {
+    const auto ranks = static_cast<std::uint64_t>(ranks_on_node > 0 ? ranks_on_node : 1);
+    return saturating_add(bytes, saturating_add(node_shared_bytes, ranks - 1) / ranks);
+  }
 };
 
 /// The estimate with the larger byte count.
@@ -37,25 +58,13 @@ std::string format_bytes(std::uint64_t bytes);
 
 /// Throws InputError "<key>: the run needs about <estimate> per rank (<detail>), but <available>
 /// is available per rank (<source> <bytes> over <ranks_on_node> ranks on this node); ..." when the
-/// estimate exceeds the node's memory divided among its ranks. Does nothing when the estimate or
-/// the node's memory is unknown. Serial: every rank given the same values decides the same.
+/// estimate (per_rank(ranks_on_node)) exceeds the node's memory divided among its ranks. Does
+/// nothing when the estimate or the node's memory is unknown. Serial: every rank given the same
+/// values decides the same.
 void require_memory(const MemoryEstimate& estimate, const std::optional<NodeMemory>& node,
                     int ranks_on_node);
 
 /// The message for a std::bad_alloc on `rank`: memory is an input limit (exit code 2).
 std::string out_of_memory_message(int rank);
-
-/// a * b, or UINT64_MAX when the product does not fit: sizes computed from user input saturate
-/// instead of wrapping around to a small number.
-constexpr std::uint64_t saturating_multiply(std::uint64_t a, std::uint64_t b) {
-  if (a != 0 && b > UINT64_MAX / a)
-    return UINT64_MAX;
-  return a * b;
-}
-
-/// a + b, or UINT64_MAX when the sum does not fit.
-constexpr std::uint64_t saturating_add(std::uint64_t a, std::uint64_t b) {
-  return a > UINT64_MAX - b ? UINT64_MAX : a + b;
-}
 
 } // namespace texsim

@@ -2,6 +2,7 @@
 
 #include "core/peak_memory.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace texsim {
@@ -18,6 +19,11 @@ StageTimers::Scope::~Scope() {
   stage.wall_s += wall_seconds() - start_s_;
   ++stage.calls;
   stage.peak_resident_bytes = texsim::peak_resident_bytes();
+  if (stage.peak_resident_bytes > owner_.sampled_at_peak_) {
+    owner_.sampled_at_peak_ = stage.peak_resident_bytes;
+    owner_.largest_proportional_bytes_ =
+        std::max(owner_.largest_proportional_bytes_, texsim::proportional_resident_bytes());
+  }
 }
 
 StageTimers::Scope StageTimers::scope(const std::string& name) {

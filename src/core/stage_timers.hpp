@@ -35,9 +35,15 @@ public:
   [[nodiscard]] Scope scope(const std::string& name);
 
   const std::vector<StageTime>& stages() const { return stages_; }
+  /// The largest proportional set size (PSS, core/peak_memory.hpp) seen at a stage end. It is
+  /// sampled only where the peak resident memory grew since the last sample, which bounds the
+  /// cost of reading it and catches the stages that raise memory.
+  std::int64_t largest_proportional_bytes() const { return largest_proportional_bytes_; }
 
 private:
   std::vector<StageTime> stages_;
+  std::int64_t sampled_at_peak_ = -1;
+  std::int64_t largest_proportional_bytes_ = 0;
 };
 
 /// Seconds on a monotonic clock.

@@ -3,8 +3,10 @@
 /// appearance-space feature vectors (d) share one layout, so the solid-synthesis code is written
 /// once for all of them.
 #include "core/error.hpp"
+#include "par/node_shared_array.hpp"
 #include "vol/dense_grid.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -12,17 +14,28 @@
 namespace texsim::vol {
 
 /// nx * ny * nz voxels of `channels` floats each, voxel-major (a voxel's channels are contiguous)
-/// and x fastest, like DenseGrid.
+/// and x fastest, like DenseGrid. The values are the grid's own, or, for a read-only grid that
+/// every rank reads whole (solid_synthesis' exemplar levels), held once per node
+/// (par::NodeSharedArray).
 class ChannelGrid {
 public:
   ChannelGrid() = default;
   ChannelGrid(Dims dims, int channels, float fill = 0.0f)
       : dims_(dims), channels_(channels),
         values_(dims.count() * static_cast<std::size_t>(channels), fill) {
-    TEXSIM_VERIFY(dims.nx > 0 && dims.ny > 0 && dims.nz > 0 && channels > 0,
-                  "channel grid needs positive dims and channels, got "
-                      << dims.nx << " x " << dims.ny << " x " << dims.nz << " x " << channels);
+    check_shape();
   }
+  /// A read-only grid on node-shared values: the non-const accessors refuse it.
+  ChannelGrid(Dims dims, int channels, par::NodeSharedArray<float> shared)
+      : dims_(dims), channels_(channels), shared_(std::move(shared)) {
+    check_shape();
+    TEXSIM_VERIFY(shared_.size() == dims.count() * static_cast<std::size_t>(channels),
+                  "node-shared grid of " << shared_.size() << " values for " << dims.count()
+                                         << " voxels of " << channels << " channels");
+  }
+
+  /// Whether the values are held once per node (read-only).
+  bool node_shared() const { return shared_.data() != nullptr; }
 
   Dims dims() const { return dims_; }
   int channels() const { return channels_; }
@@ -48,18 +61,28 @@ public:
 
   /// The channels of the voxel with storage index `voxel`.
   std::span<float> voxel(std::size_t voxel) {
+    TEXSIM_ASSERT(!node_shared(), "a node-shared channel grid is read-only");
     return {values_.data() + voxel * static_cast<std::size_t>(channels_),
             static_cast<std::size_t>(channels_)};
   }
   std::span<const float> voxel(std::size_t voxel) const {
-    return {values_.data() + voxel * static_cast<std::size_t>(channels_),
+    return {data().data() + voxel * static_cast<std::size_t>(channels_),
             static_cast<std::size_t>(channels_)};
   }
 
-  std::span<float> data() { return values_; }
-  std::span<const float> data() const { return values_; }
+  std::span<float> data() {
+    TEXSIM_VERIFY(!node_shared(), "a node-shared channel grid is read-only");
+    return values_;
+  }
+  std::span<const float> data() const {
+    return node_shared() ? shared_.values() : std::span<const float>(values_);
+  }
 
-  friend bool operator==(const ChannelGrid&, const ChannelGrid&) = default;
+  /// Same shape and the same values, wherever they are held.
+  friend bool operator==(const ChannelGrid& a, const ChannelGrid& b) {
+    return a.dims_ == b.dims_ && a.channels_ == b.channels_ &&
+           std::ranges::equal(a.data(), b.data());
+  }
 
   static int wrap(int i, int n) {
     const int m = i % n;
@@ -68,9 +91,16 @@ public:
   static int clamp(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); }
 
 private:
+  void check_shape() const {
+    TEXSIM_VERIFY(dims_.nx > 0 && dims_.ny > 0 && dims_.nz > 0 && channels_ > 0,
+                  "channel grid needs positive dims and channels, got "
+                      << dims_.nx << " x " << dims_.ny << " x " << dims_.nz << " x " << channels_);
+  }
+
   Dims dims_;
   int channels_ = 0;
-  std::vector<float> values_;
+  std::vector<float> values_;          ///< empty when node-shared
+  par::NodeSharedArray<float> shared_; ///< set when node-shared
 };
 
 /// A colour grid as 3 channels, or a scalar grid as 1.

@@ -32,6 +32,7 @@ EXPECTED = {
     "raw-scan": (["fem_jacobi_cg_iterations_per_step", "fem_auto_cg_iterations_per_step",
                   "turk_substeps", "vertices"], []),
     "scale": (["rss_n8_over_n1_solid", "rss_n8_over_n1_fem", "rss_n8_over_n1_turk",
+               "pss_n8_over_n1_solid",
                "projected_efficiency_64_solid", "projected_efficiency_64_fem",
                "projected_efficiency_64_turk"], ["solid_work_model_matches_n8"]),
     "fluid": (["frame_s_n2", "frame_s_n1", "advect_s", "update_s", "create_s", "atlas_s",

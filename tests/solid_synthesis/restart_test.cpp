@@ -90,6 +90,21 @@ TEST_F(SolidSynthesisRuns, SameBytesAtOneTwoAndThreeRanks) {
   }
 }
 
+TEST_F(SolidSynthesisRuns, SameBytesWhenRanksSpanSeveralNodes) {
+  // Three ranks as two nodes (TEXSIM_RANKS_PER_NODE=2): the node-shared exemplar levels travel
+  // between the nodes' leaders, both when they are computed and when they come from the cache.
+  const fs::path cache = dir_ / "cache_two_nodes";
+  for (const char* run : {"two_nodes_computed", "two_nodes_cached"}) {
+    const auto outcome =
+        test::run_command(test::texsim_under_mpirun(3, "-x TEXSIM_RANKS_PER_NODE=2") + " " +
+                          (test::source_dir() / "config/solid_synthesis/smoke.yaml").string() +
+                          " --set output.dir=" + (dir_ / run).string() +
+                          " --set solid_synthesis.similarity.cache_dir=" + cache.string());
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+    expect_same_volumes(dir_ / "n2", dir_ / run, false);
+  }
+}
+
 TEST_F(SolidSynthesisRuns, RestartFromMidPyramidCheckpointGivesTheSameBytes) {
   for (const int ranks : {2, 3}) {
     const fs::path copy = dir_ / with_ranks("killed_n", ranks);

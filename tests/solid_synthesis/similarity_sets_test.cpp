@@ -295,8 +295,11 @@ TEST(SimilaritySetCache, RoundTripAndRefusals) {
   EXPECT_FALSE(load_similarity_sets(comm, file, other_key).has_value()) << "key mismatch";
 
   // A file holding sets that cannot be right (C_1(v) != v) is not used.
-  SimilaritySets broken = sets;
-  broken.candidates[sets.k * 5] = 6;
+  std::vector<std::int32_t> wrong(sets.candidates.begin(), sets.candidates.end());
+  wrong[static_cast<std::size_t>(sets.k) * 5] = 6;
+  const SimilaritySets broken{
+      sets.dims, sets.k,
+      par::NodeSharedArray<std::int32_t>::from_root(par::NodeLayout::make(comm), wrong)};
   save_similarity_sets(comm, file, key, broken);
   EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "inconsistent sets";
 

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "par/comm.hpp"
+#include "par/node_shared_array.hpp"
 #include "vol/gaussian_stack_3d.hpp"
 
 #include <cblas.h>
@@ -456,13 +457,13 @@ add_taps(float* acc, const float* row, const float* weights, int taps, int spaci
 }
 
 /// Appearance vectors of the box's voxels in x rows [rows.first, rows.second) (row y + ny z of the
-/// box), written into `features`, one x row at a time: (x - mean) B is accumulated from the
-/// centred level's rows, padded along x by the taps' reach (wrapped or clamped) so every tap
-/// reads them contiguously. Each vector is summed in the same order on any thread and whichever
-/// rows are asked for.
+/// box), written into `features` (those rows only, row rows.first first), one x row at a time: (x -
+/// mean) B is accumulated from the centred level's rows, padded along x by the taps' reach (wrapped
+/// or clamped) so every tap reads them contiguously. Each vector is summed in the same order on any
+/// thread and whichever rows are asked for.
 void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, bool periodic,
                    const std::vector<float>& centre, const AppearanceLevel& appearance,
-                   std::pair<std::ptrdiff_t, std::ptrdiff_t> rows, vol::ChannelGrid& features) {
+                   std::pair<std::ptrdiff_t, std::ptrdiff_t> rows, std::span<float> features) {
   const int window = appearance.window, reach = window / 2 * spacing;
   const int channels = level.channels();
   const auto c_count = static_cast<std::size_t>(channels);
@@ -536,9 +537,10 @@ void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, b
           }
         }
       }
-      const std::size_t first = static_cast<std::size_t>(row) * length;
+      float* row_out =
+          features.data() + static_cast<std::size_t>(row - rows.first) * length * dimensions;
       for (std::size_t i = 0; i < length; ++i) {
-        auto out = features.voxel(first + i);
+        float* out = row_out + i * dimensions;
         for (std::size_t q = 0; q < dimensions; ++q) {
           out[q] = acc[q * length + i] - offset(static_cast<Eigen::Index>(q));
         }
@@ -626,27 +628,28 @@ AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::Channel
     TEXSIM_VERIFY(!std::isnan(space.levels[s].retained_variance),
                   "eigen decomposition of the level " << s << " covariance failed");
 
-  // Every rank projects an even share of the x rows of each level; the shares are then gathered.
+  // Every rank projects an even share of the x rows of each level; the shares are then
+  // concatenated once per node, which all of the node's ranks read.
   const auto rows = static_cast<std::ptrdiff_t>(box.size[1]) * box.size[2];
   const auto row_of_rank = [&](int r) { return rows * r / comm.size; };
-  const auto row_values = static_cast<std::ptrdiff_t>(box.size[0]) * options.dimensions;
-  std::vector<int> counts(static_cast<std::size_t>(comm.size)),
-      offsets(static_cast<std::size_t>(comm.size));
-  for (int r = 0; r < comm.size; ++r) {
-    offsets[r] = static_cast<int>(row_of_rank(r) * row_values);
-    counts[r] = static_cast<int>((row_of_rank(r + 1) - row_of_rank(r)) * row_values);
-  }
+  const std::pair<std::ptrdiff_t, std::ptrdiff_t> my_rows{row_of_rank(comm.rank),
+                                                          row_of_rank(comm.rank + 1)};
+  const auto layout = par::NodeLayout::make(comm);
+  const vol::Dims box_dims{box.size[0], box.size[1], box.size[2]};
   for (std::size_t s = 0; s < level_count; ++s) {
     AppearanceLevel& level = space.levels[s];
+    std::vector<float> my_features(static_cast<std::size_t>(my_rows.second - my_rows.first) *
+                                   static_cast<std::size_t>(box.size[0]) *
+                                   static_cast<std::size_t>(options.dimensions));
+    project_level(stack[s], box, level.spacing, periodic, centres[s], level, my_rows, my_features);
     level.features =
-        vol::ChannelGrid(vol::Dims{box.size[0], box.size[1], box.size[2]}, options.dimensions);
-    project_level(stack[s], box, level.spacing, periodic, centres[s], level,
-                  {row_of_rank(comm.rank), row_of_rank(comm.rank + 1)}, level.features);
-    if (comm.size > 1)
-      MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, level.features.data().data(),
-                     counts.data(), offsets.data(), MPI_FLOAT, comm.raw);
+        vol::ChannelGrid(box_dims, options.dimensions,
+                         par::NodeSharedArray<float>::concatenate(layout, my_features));
   }
-  space.colours = periodic ? exemplar : crop(exemplar, box);
+  // The colours are the same on every rank: rank 0's are held once per node.
+  const vol::ChannelGrid colours = periodic ? exemplar : crop(exemplar, box);
+  space.colours = vol::ChannelGrid(colours.dims(), colours.channels(),
+                                   par::NodeSharedArray<float>::from_root(layout, colours.data()));
   for (vol::ChannelGrid& level : stack) {
     space.stack.push_back(periodic ? std::move(level) : crop(level, box));
   }

@@ -29,7 +29,7 @@ struct AppearanceOptions {
 struct AppearanceLevel {
   int spacing = 1;           ///< h = 2^s: exemplar voxels between neighbourhood samples
   int window = 5;            ///< neighbourhood edge in taps
-  vol::ChannelGrid features; ///< `dimensions` floats per working-exemplar voxel
+  vol::ChannelGrid features; ///< `dimensions` floats per working-exemplar voxel (node-shared)
   Eigen::VectorXd mean;      ///< window^3*C mean neighbourhood vector, tap-major (z, y, x), channel
                              ///< fastest
   /// (window^3*C) x dimensions principal axes, columns by decreasing variance, each with its
@@ -53,7 +53,8 @@ struct AppearanceSpace {
 /// per face, so the finest level's features of the kept voxels see only real data; PCA uses the
 /// kept voxels only. Split over `comm`: the statistics and principal axes of stack level s on
 /// rank s mod size, the projection by x rows over all ranks; every rank gets the whole space,
-/// the same bits for any rank and thread count. Collective.
+/// the same bits for any rank and thread count, with each level's features held once per node
+/// (read-only, vol::ChannelGrid::node_shared). Collective.
 /// Throws Error (on every rank) if the window is not odd and positive, dimensions < 1, or the
 /// exemplar is smaller than the window along an axis.
 AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::ChannelGrid& exemplar,

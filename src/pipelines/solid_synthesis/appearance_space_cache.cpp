@@ -10,6 +10,7 @@
 #include "io/scalar_type.hpp"
 #include "par/hdf5_call.hpp"
 #include "par/hdf5_handle.hpp"
+#include "par/node_shared_array.hpp"
 
 #include <hdf5.h>
 #include <mpi.h>
@@ -21,6 +22,7 @@
 #include <span>
 #include <string_view>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -97,13 +99,13 @@ bool fits_options(const AppearanceSpace& space, const AppearanceOptions& options
   return true;
 }
 
-/// Every array of `space`, in a fixed order, as bytes: what rank 0 broadcasts after reading.
+/// Every array of `space` but the colours and features (node-shared), in a fixed order, as bytes:
+/// what rank 0 broadcasts after reading.
 std::vector<std::span<std::byte>> payload(AppearanceSpace& space) {
-  std::vector<std::span<std::byte>> parts{std::as_writable_bytes(space.colours.data())};
+  std::vector<std::span<std::byte>> parts;
   for (std::size_t s = 0; s < space.levels.size(); ++s) {
     AppearanceLevel& level = space.levels[s];
     parts.push_back(std::as_writable_bytes(space.stack[s].data()));
-    parts.push_back(std::as_writable_bytes(level.features.data()));
     parts.push_back(std::as_writable_bytes(
         std::span(level.mean.data(), static_cast<std::size_t>(level.mean.size()))));
     parts.push_back(std::as_writable_bytes(
@@ -114,18 +116,17 @@ std::vector<std::span<std::byte>> payload(AppearanceSpace& space) {
   return parts;
 }
 
-/// A zero space shaped like one that fits `options`, for the ranks that receive the cached one.
+/// A zero space shaped like one that fits `options`, for the ranks that receive the cached one
+/// (the colours and features come node-shared, later).
 AppearanceSpace shaped_space(vol::Dims dims, int channels, int level_count,
                              const AppearanceOptions& options) {
   const Eigen::Index components = neighbourhood_components(options, channels);
   AppearanceSpace space;
-  space.colours = vol::ChannelGrid(dims, channels);
   space.periodic = options.border == ExemplarBorder::toroidal;
   for (int s = 0; s < level_count; ++s) {
     space.stack.emplace_back(dims, channels);
     AppearanceLevel level;
     level.window = options.window;
-    level.features = vol::ChannelGrid(dims, options.dimensions);
     level.mean = Eigen::VectorXd::Zero(components);
     level.basis = Eigen::MatrixXd::Zero(components, options.dimensions);
     space.levels.push_back(std::move(level));
@@ -330,6 +331,16 @@ std::optional<AppearanceSpace> load_appearance_space(const par::Comm& comm,
     space = shaped_space({shape[1], shape[2], shape[3]}, shape[4], shape[5], options);
   for (const std::span<std::byte> part : payload(*space))
     broadcast_bytes(comm, part);
+  // Rank 0's colours and features, held once per node.
+  const auto layout = par::NodeLayout::make(comm);
+  const vol::Dims dims{shape[1], shape[2], shape[3]};
+  const auto node_shared = [&](const vol::ChannelGrid& read, int channels) {
+    const auto values = comm.is_root() ? read.data() : std::span<const float>();
+    return vol::ChannelGrid(dims, channels, par::NodeSharedArray<float>::from_root(layout, values));
+  };
+  space->colours = node_shared(space->colours, shape[4]);
+  for (AppearanceLevel& level : space->levels)
+    level.features = node_shared(level.features, options.dimensions);
   return space;
 }
 

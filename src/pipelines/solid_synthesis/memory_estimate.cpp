@@ -8,10 +8,15 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// Bytes per exemplar voxel and stack level: colours, `dimensions` float features, k similarity
-/// candidates and the working copies of the PCA.
-std::uint64_t exemplar_bytes_per_voxel(const SolidSynthesisSettings& settings) {
-  return 12 + 8 * std::uint64_t(settings.appearance.dimensions) +
+/// Bytes per exemplar voxel and stack level that each rank holds: the stack's colours (until the
+/// features are built).
+constexpr std::uint64_t kRankBytesPerVoxel = 12;
+
+/// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray):
+/// `dimensions` float features, k similarity candidates, and room for the copies made while they
+/// are built and for the correction's candidate coordinates.
+std::uint64_t node_bytes_per_voxel(const SolidSynthesisSettings& settings) {
+  return 8 * std::uint64_t(settings.appearance.dimensions) +
          8 * std::uint64_t(settings.similarity.k);
 }
 
@@ -36,11 +41,11 @@ MemoryEstimate exemplar_estimate(const SolidSynthesisSettings& settings) {
              (std::uint64_t(1) << octaves) <
          voxels)
     ++octaves;
-  const std::uint64_t bytes = saturating_multiply(
-      saturating_multiply(voxels, std::uint64_t(octaves + 1)), exemplar_bytes_per_voxel(settings));
-  return {bytes, key,
+  const std::uint64_t level_voxels = saturating_multiply(voxels, std::uint64_t(octaves + 1));
+  return {saturating_multiply(level_voxels, kRankBytesPerVoxel), key,
           "exemplar of " + shape + " x " + std::to_string(octaves + 1) +
-              " stack levels, held by every rank"};
+              " stack levels, its features and similarity sets held once per node",
+          saturating_multiply(level_voxels, node_bytes_per_voxel(settings))};
 }
 
 MemoryEstimate synthesis_estimate(const SolidSynthesisSettings& settings, int ranks) {
@@ -76,8 +81,10 @@ MemoryEstimate estimate_solid_synthesis_memory(const SolidSynthesisSettings& set
   MemoryEstimate synthesis = synthesis_estimate(settings, ranks);
   if (settings.mode == RunMode::similarity_sets)
     return exemplar;
-  MemoryEstimate total = larger(exemplar, synthesis);
+  // The key of the larger term for one rank on a node.
+  MemoryEstimate total = exemplar.per_rank(1) > synthesis.bytes ? exemplar : synthesis;
   total.bytes = saturating_add(exemplar.bytes, synthesis.bytes);
+  total.node_shared_bytes = exemplar.node_shared_bytes;
   return total;
 }
 

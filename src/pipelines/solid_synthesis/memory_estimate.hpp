@@ -5,8 +5,9 @@
 
 namespace texsim::pipelines::solid_synthesis {
 
-/// The larger of two terms. Exemplar (held whole by every rank): its Gaussian stack, one full-size
-/// level per octave, with colours, appearance features and similarity sets per voxel; the voxel
+/// The sum of two terms, naming the key of the larger. Exemplar: its Gaussian stack, one full-size
+/// level per octave, with colours per voxel on every rank, appearance features and similarity sets
+/// per voxel once per node (MemoryEstimate::node_shared_bytes); the voxel
 /// count of a file exemplar is taken from its size (4 bytes per voxel). Synthesis: the pyramid
 /// (next power of two of the largest edge, cubed) divided among ranks, plus the result gathered on
 /// rank 0 for the .vdb/.vti writers. Names exemplar.size, exemplar.file, synthesis.size or

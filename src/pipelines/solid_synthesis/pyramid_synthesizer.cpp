@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
+#include "par/node_shared_array.hpp"
 #include "pipelines/solid_synthesis/correction_stencil.hpp"
 
 #include <Eigen/Core>
@@ -52,20 +53,24 @@ private:
 /// Features and similarity sets of one stack level, with the lookups the correction needs.
 class ExemplarLevelView {
 public:
-  ExemplarLevelView(const vol::ChannelGrid& features, const SimilaritySets& sets)
-      : features_(cache_line_aligned_copy(features.data(), feature_storage_)), k_(sets.k),
+  /// Collective over `comm` (the candidates' coordinates are held once per node).
+  ExemplarLevelView(const par::Comm& comm, const vol::ChannelGrid& features,
+                    const SimilaritySets& sets)
+      : features_(cache_line_aligned(features.data(), feature_storage_)), k_(sets.k),
         channels_(features.channels()), wrap_x_(features.dims().nx, 1),
         wrap_y_(features.dims().ny, features.dims().nx),
         wrap_z_(features.dims().nz, std::int64_t{features.dims().nx} * features.dims().ny),
-        candidates_(sets.candidates.size()) {
-    const vol::Dims dims = features.dims();
-    for (std::size_t c = 0; c < candidates_.size(); ++c) {
-      const std::int64_t v = sets.candidates[c];
-      candidates_[c] = {static_cast<std::int32_t>(v % dims.nx),
-                        static_cast<std::int32_t>((v / dims.nx) % dims.ny),
-                        static_cast<std::int32_t>(v / (std::int64_t{dims.nx} * dims.ny))};
-    }
-  }
+        candidates_(par::NodeSharedArray<Coord>::filled(
+            par::NodeLayout::make(comm), sets.candidates.size(),
+            [&](std::span<Coord> all, std::size_t begin, std::size_t end) {
+              const vol::Dims dims = features.dims();
+              for (std::size_t c = begin; c < end; ++c) {
+                const std::int64_t v = sets.candidates[c];
+                all[c] = {static_cast<std::int32_t>(v % dims.nx),
+                          static_cast<std::int32_t>((v / dims.nx) % dims.ny),
+                          static_cast<std::int32_t>(v / (std::int64_t{dims.nx} * dims.ny))};
+              }
+            })) {}
 
   int channels() const { return channels_; }
   int k() const { return k_; }
@@ -79,12 +84,15 @@ public:
   }
 
 private:
-  /// A copy of `values` inside `storage`, starting on a cache-line boundary: a voxel of 8
-  /// channels then fills half a line, where at the allocator's 16-byte alignment every other
-  /// voxel straddles two lines, two cache misses instead of one.
-  static const float* cache_line_aligned_copy(std::span<const float> values,
-                                              std::vector<float>& storage) {
+  /// `values` themselves if they start on a cache-line boundary (node-shared features do),
+  /// otherwise a copy inside `storage` that does: a voxel of 8 channels then fills half a line,
+  /// where at the allocator's 16-byte alignment every other voxel straddles two lines, two cache
+  /// misses instead of one.
+  static const float* cache_line_aligned(std::span<const float> values,
+                                         std::vector<float>& storage) {
     constexpr std::size_t kLineFloats = 64 / sizeof(float);
+    if (reinterpret_cast<std::uintptr_t>(values.data()) % 64 == 0)
+      return values.data();
     storage.resize(values.size() + kLineFloats);
     const std::size_t misalignment =
         reinterpret_cast<std::uintptr_t>(storage.data()) % 64 / sizeof(float);
@@ -93,12 +101,12 @@ private:
     return start;
   }
 
-  std::vector<float> feature_storage_; // before features_, which points into it
+  std::vector<float> feature_storage_; // before features_, which may point into it
   const float* features_;
   int k_;
   int channels_;
   AxisWrap wrap_x_, wrap_y_, wrap_z_;
-  std::vector<Coord> candidates_;
+  par::NodeSharedArray<Coord> candidates_;
 };
 
 /// Whether two matrices hold the same bits (a stencil is a pure function of them).
@@ -372,7 +380,7 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
   if (!sets || options_.correction_passes == 0)
     return true;
   stats.corrected = true;
-  const ExemplarLevelView exemplar(*exemplar_.features[s], *sets);
+  const ExemplarLevelView exemplar(comm_, *exemplar_.features[s], *sets);
   const LevelLayout& layout = slab.layout();
   const int n = layout.size;
   // One stencil for the level when A is the same everywhere this rank reads (isometric, slant):

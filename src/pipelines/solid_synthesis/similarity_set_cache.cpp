@@ -54,10 +54,11 @@ KeyFields parse_key(const std::string& key) {
   return f;
 }
 
-/// The sets in `file` if everything checks out; nothing for a missing, foreign, damaged or
+/// The candidates in `file` if everything checks out; nothing for a missing, foreign, damaged or
 /// inconsistent file. Not collective.
-std::optional<SimilaritySets> read_sets(const std::filesystem::path& file, const std::string& key,
-                                        const KeyFields& expected) {
+std::optional<std::vector<std::int32_t>> read_candidates(const std::filesystem::path& file,
+                                                         const std::string& key,
+                                                         const KeyFields& expected) {
   try {
     const std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
     if (!h5)
@@ -76,19 +77,19 @@ std::optional<SimilaritySets> read_sets(const std::filesystem::path& file, const
                                         static_cast<hsize_t>(dims.ny),
                                         static_cast<hsize_t>(dims.nx), static_cast<hsize_t>(k)})
       return std::nullopt;
-    SimilaritySets sets{dims, k, std::vector<std::int32_t>(dims.count() * k)};
-    TEXSIM_HDF5_CALL(H5Dread(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                             sets.candidates.data()),
-                     file.string());
+    std::vector<std::int32_t> candidates(dims.count() * k);
+    TEXSIM_HDF5_CALL(
+        H5Dread(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, candidates.data()),
+        file.string());
     // Structure every valid set has: C_1(v) = v and indices inside the grid.
     const auto voxels = static_cast<std::int64_t>(dims.count());
     for (std::int64_t v = 0; v < voxels; ++v)
       for (int i = 0; i < k; ++i) {
-        const std::int32_t c = sets.candidates[static_cast<std::size_t>(v * k + i)];
+        const std::int32_t c = candidates[static_cast<std::size_t>(v * k + i)];
         if (c < 0 || c >= voxels || (i == 0 && c != v))
           return std::nullopt;
       }
-    return sets;
+    return candidates;
   } catch (const std::exception&) {
     return std::nullopt; // damaged: the caller recomputes and overwrites it
   }
@@ -130,19 +131,18 @@ std::optional<SimilaritySets> load_similarity_sets(const par::Comm& comm,
                                                    const std::filesystem::path& file,
                                                    const std::string& key) {
   const KeyFields fields = parse_key(key);
-  std::optional<SimilaritySets> sets;
+  std::optional<std::vector<std::int32_t>> candidates;
   if (comm.is_root())
-    sets = read_sets(file, key, fields);
-  int found = sets.has_value();
+    candidates = read_candidates(file, key, fields);
+  int found = candidates.has_value();
   MPI_Bcast(&found, 1, MPI_INT, 0, comm.raw);
   if (!found)
     return std::nullopt;
-  if (!comm.is_root())
-    sets = SimilaritySets{fields.dims, fields.options.k,
-                          std::vector<std::int32_t>(fields.dims.count() * fields.options.k)};
-  MPI_Bcast(sets->candidates.data(), static_cast<int>(sets->candidates.size()), MPI_INT32_T, 0,
-            comm.raw);
-  return sets;
+  const std::span<const std::int32_t> read =
+      comm.is_root() ? std::span<const std::int32_t>(*candidates) : std::span<const std::int32_t>();
+  return SimilaritySets{
+      fields.dims, fields.options.k,
+      par::NodeSharedArray<std::int32_t>::from_root(par::NodeLayout::make(comm), read)};
 }
 
 void save_similarity_sets(const par::Comm& comm, const std::filesystem::path& file,

@@ -110,19 +110,19 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     progress.finish();
   }
 
-  std::vector<std::int32_t> by_position(voxels * k);
-  std::vector<int> counts(static_cast<std::size_t>(comm.size));
-  std::vector<int> offsets(static_cast<std::size_t>(comm.size));
-  for (int r = 0; r < comm.size; ++r) {
-    offsets[r] = range_start(r) * k;
-    counts[r] = (range_start(r + 1) - range_start(r)) * k;
-  }
-  MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_INT32_T, by_position.data(),
-                 counts.data(), offsets.data(), MPI_INT32_T, comm.raw);
-  SimilaritySets sets{features.dims(), k, std::vector<std::int32_t>(voxels * k)};
-  for (std::size_t i = 0; i < voxels; ++i)
-    std::copy_n(by_position.begin() + static_cast<std::ptrdiff_t>(i) * k, k,
-                sets.candidates.begin() + static_cast<std::ptrdiff_t>(order[i]) * k);
+  // The ranks' ranges in query order, then each node's ranks put a share of them in voxel order
+  // (share [begin, end) of the elements: the queries begin / k to end / k).
+  const auto layout = par::NodeLayout::make(comm);
+  const auto by_position = par::NodeSharedArray<std::int32_t>::concatenate(layout, local);
+  const auto kk = static_cast<std::size_t>(k);
+  SimilaritySets sets{features.dims(), k,
+                      par::NodeSharedArray<std::int32_t>::filled(
+                          layout, voxels * kk,
+                          [&](std::span<std::int32_t> all, std::size_t begin, std::size_t end) {
+                            for (std::size_t i = begin / kk; i < end / kk; ++i)
+                              std::copy_n(by_position.begin() + i * kk, k,
+                                          all.begin() + static_cast<std::ptrdiff_t>(order[i]) * k);
+                          })};
   return sets;
 }
 

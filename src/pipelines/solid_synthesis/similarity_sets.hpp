@@ -4,6 +4,7 @@
 /// whose features are nearest to p's among the voxels outside the n x n x n windows centred on
 /// C_1(p) ... C_i(p). The synthesis' correction step draws its candidates from these sets.
 #include "par/comm.hpp"
+#include "par/node_shared_array.hpp"
 #include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
 #include "vol/channel_grid.hpp"
 
@@ -24,11 +25,12 @@ struct SimilarityOptions {
   ShortlistSearch search = ShortlistSearch::automatic;
 };
 
-/// candidates[v * k + i] = C_{i+1}(v) as a voxel storage index (x fastest); C_1(v) = v.
+/// candidates[v * k + i] = C_{i+1}(v) as a voxel storage index (x fastest); C_1(v) = v. Held
+/// once per node: every rank reads them, none changes them.
 struct SimilaritySets {
   vol::Dims dims;
   int k = 0;
-  std::vector<std::int32_t> candidates;
+  par::NodeSharedArray<std::int32_t> candidates;
 };
 
 /// The similarity sets of `features` (any number of float channels per voxel). Distances are
@@ -36,8 +38,8 @@ struct SimilaritySets {
 /// go to the smaller voxel index; when no voxel is left outside the windows (tiny exemplars) the
 /// last candidate repeats. Exact: the same sets as a brute-force search, for any rank and thread
 /// count. Collective over `comm`: ranks split the voxels into contiguous ranges (OpenMP threads
-/// share a rank's range) and every rank returns the full sets. The scan costs about 2 d N^2
-/// flops; the tree visits only the voxels within each query's witness distance.
+/// share a rank's range) and every rank returns the full sets (node-shared). The scan costs about 2
+/// d N^2 flops; the tree visits only the voxels within each query's witness distance.
 SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGrid& features,
                                      const SimilarityOptions& options);
 
