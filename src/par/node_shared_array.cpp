@@ -30,7 +30,7 @@ std::shared_ptr<const NodeLayout> NodeLayout::make(const Comm& comm, int emulate
       const long value = std::strtol(text, &end, 10);
       if (end == text || *end != '\0' || value < 1 || value > 1 << 20)
         TEXSIM_INPUT_ERROR("TEXSIM_RANKS_PER_NODE: expected a positive rank count, got '" << text
-                                                                                       << "'");
+                                                                                          << "'");
       emulated_ranks_per_node = static_cast<int>(value);
     }
   std::shared_ptr<NodeLayout> layout(new NodeLayout);
@@ -53,6 +53,8 @@ std::shared_ptr<const NodeLayout> NodeLayout::make(const Comm& comm, int emulate
   MPI_Allgather(&node_index, 1, MPI_INT, layout->node_of_rank.data(), 1, MPI_INT, comm.raw);
   layout->node_count =
       *std::max_element(layout->node_of_rank.begin(), layout->node_of_rank.end()) + 1;
+  layout->rank_in_node.resize(std::size_t(comm.size));
+  MPI_Allgather(&layout->node.rank, 1, MPI_INT, layout->rank_in_node.data(), 1, MPI_INT, comm.raw);
   return layout;
 }
 
@@ -76,8 +78,8 @@ NodeSharedBytes::NodeSharedBytes(std::shared_ptr<const NodeLayout> layout, std::
   const bool owner = layout_->node.rank == 0;
   const auto size = static_cast<MPI_Aint>(owner ? count + kAlignment : 0);
   void* base = nullptr;
-  const int status = MPI_Win_allocate_shared(size, 1, MPI_INFO_NULL, layout_->node.raw, &base,
-                                             &window_->win);
+  const int status =
+      MPI_Win_allocate_shared(size, 1, MPI_INFO_NULL, layout_->node.raw, &base, &window_->win);
   TEXSIM_VERIFY(status == MPI_SUCCESS, "MPI_Win_allocate_shared of " << count << " bytes failed");
   MPI_Aint owner_size = 0;
   int unit = 0;
@@ -97,8 +99,8 @@ void NodeSharedBytes::synchronise() const {
 }
 
 NodeSharedBytes node_shared_concatenation(std::shared_ptr<const NodeLayout> layout,
-                                          std::span<const std::byte> mine,
-                                          std::size_t max_message) {
+                                          std::span<const std::byte> mine, std::size_t max_message,
+                                          std::size_t node_chunk) {
   const Comm& world = layout->world;
   std::vector<std::uint64_t> sizes(std::size_t(world.size));
   const std::uint64_t my_size = mine.size();
@@ -109,8 +111,32 @@ NodeSharedBytes node_shared_concatenation(std::shared_ptr<const NodeLayout> layo
 
   NodeSharedBytes shared(layout, offsets.back());
   const std::span<std::byte> out = shared.bytes();
-  if (!mine.empty())
-    std::memcpy(out.data() + offsets[std::size_t(world.rank)], mine.data(), mine.size());
+  // Chunk j of a part is written by node rank j mod (node size): the owner copies the chunks
+  // that fall to it and sends the others, which their writers receive straight into the window.
+  const Comm& node = layout->node;
+  const int my_node = layout->node_of_rank[std::size_t(world.rank)];
+  std::vector<MPI_Request> requests;
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    if (layout->node_of_rank[r] != my_node)
+      continue;
+    const int owner = layout->rank_in_node[r];
+    const bool owned = int(r) == world.rank;
+    for (std::uint64_t begin = 0, chunk = 0; begin < sizes[r]; begin += node_chunk, ++chunk) {
+      const auto length = static_cast<int>(std::min<std::uint64_t>(node_chunk, sizes[r] - begin));
+      const int writer = static_cast<int>(chunk % std::uint64_t(node.size));
+      std::byte* target = out.data() + offsets[r] + begin;
+      if (owned && writer == node.rank) {
+        std::memcpy(target, mine.data() + begin, std::size_t(length));
+      } else if (owned) {
+        requests.emplace_back();
+        MPI_Isend(mine.data() + begin, length, MPI_BYTE, writer, 0, node.raw, &requests.back());
+      } else if (writer == node.rank) {
+        requests.emplace_back();
+        MPI_Irecv(target, length, MPI_BYTE, owner, 0, node.raw, &requests.back());
+      }
+    }
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   shared.synchronise();
   if (layout->node_count > 1 && layout->leaders.raw != MPI_COMM_NULL) {
     // Rank r's part, already in its own node's window, goes from that node's leader to the others.

@@ -33,10 +33,14 @@ struct NodeLayout {
   Comm leaders; ///< node rank 0 of every node (MPI_COMM_NULL on the other ranks)
   int node_count = 1;
   std::vector<int> node_of_rank; ///< per rank of `world`: its node's index (rank in `leaders`)
+  std::vector<int> rank_in_node; ///< per rank of `world`: its rank in its node's `node`
 
 private:
   NodeLayout() = default;
 };
+
+/// Bytes per chunk when a rank's part is spread over its node's ranks for writing.
+inline constexpr std::size_t kNodeChunk = std::size_t{256} << 10;
 
 /// `count` bytes shared by the ranks of a node; the window is freed (collectively over the node)
 /// when the last copy of the handle goes.
@@ -61,13 +65,16 @@ private:
   std::size_t count_ = 0;
 };
 
-/// The concatenation, in rank order, of every rank's `mine`, written once per node: each rank
-/// copies its part into its node's window, then every node leader receives the parts of the other
-/// nodes' ranks (broadcast over the leaders in messages of at most `max_message` bytes, so no
-/// MPI count overflows). Collective over layout->world.
+/// The concatenation, in rank order, of every rank's `mine`, written once per node: each rank's
+/// part goes into its node's window in chunks of `node_chunk` bytes that the node's ranks write in
+/// turn (so that no rank touches, and counts in its resident memory, more than its share of the
+/// pages), then every node leader receives the parts of the other nodes' ranks (broadcast over the
+/// leaders in messages of at most `max_message` bytes, so no MPI count overflows). Collective over
+/// layout->world.
 NodeSharedBytes node_shared_concatenation(std::shared_ptr<const NodeLayout> layout,
                                           std::span<const std::byte> mine,
-                                          std::size_t max_message = std::size_t{1} << 30);
+                                          std::size_t max_message = std::size_t{1} << 30,
+                                          std::size_t node_chunk = kNodeChunk);
 
 /// A read-only array of trivially copyable T held once per node.
 template <class T> class NodeSharedArray {

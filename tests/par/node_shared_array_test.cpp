@@ -1,6 +1,7 @@
 // NodeSharedArray: every rank sees the concatenation of all ranks' parts in rank order, for the
 // machine's own node layout and for emulated nodes of 1 and 2 ranks (so the leaders' broadcast
-// runs on one machine), with messages split down to 7 bytes and ranks that contribute nothing;
+// runs on one machine), with messages split down to 7 bytes, parts written by the node's ranks in
+// chunks down to 5 bytes, and ranks that contribute nothing;
 // the ranks of a node map the same memory, aligned to a cache line.
 #include "par/node_shared_array.hpp"
 
@@ -51,14 +52,16 @@ TEST(NodeSharedArray, ConcatenatesInRankOrderOnEveryNodeLayout) {
   const auto expected = expected_concatenation(comm.size);
   for (const int per_node : {0, 1, 2}) {
     const auto layout = NodeLayout::make(comm, per_node);
-    for (const std::size_t message : {std::size_t{7}, std::size_t{1} << 30}) {
-      const NodeSharedBytes bytes =
-          node_shared_concatenation(layout, std::as_bytes(std::span(mine)), message);
-      const NodeSharedArray<std::int64_t> all(bytes);
-      EXPECT_EQ(std::vector<std::int64_t>(all.values().begin(), all.values().end()), expected)
-          << per_node << " ranks per node, messages of " << message << " bytes";
-      EXPECT_EQ(reinterpret_cast<std::uintptr_t>(all.data()) % 64, 0u);
-    }
+    for (const std::size_t message : {std::size_t{7}, std::size_t{1} << 30})
+      for (const std::size_t chunk : {std::size_t{5}, std::size_t{16}, kNodeChunk}) {
+        const NodeSharedBytes bytes =
+            node_shared_concatenation(layout, std::as_bytes(std::span(mine)), message, chunk);
+        const NodeSharedArray<std::int64_t> all(bytes);
+        EXPECT_EQ(std::vector<std::int64_t>(all.values().begin(), all.values().end()), expected)
+            << per_node << " ranks per node, messages of " << message << " bytes, chunks of "
+            << chunk;
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(all.data()) % 64, 0u);
+      }
   }
 }
 
