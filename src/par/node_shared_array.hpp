@@ -4,6 +4,7 @@
 /// (MPI_Comm_split_type, MPI_COMM_TYPE_SHARED): node rank 0 owns it, every rank of the node maps
 /// it. Used for data that every rank reads at random and nobody changes once built, such as
 /// solid_synthesis' exemplar levels: at 64 ranks on 4 nodes it is held 4 times, not 64.
+#include "core/error.hpp"
 #include "par/comm.hpp"
 
 #include <algorithm>
@@ -96,15 +97,19 @@ public:
     return concatenate(std::move(layout), mine ? values : std::span<const T>());
   }
   /// `count` elements computed on each node: `fill(all, begin, end)` writes elements
-  /// [begin, end) of `all`, and the node's ranks share the range evenly. Collective.
+  /// [begin, end) of `all`, and the node's ranks share the range evenly, in whole multiples of
+  /// `granule` elements (which divides `count`: e.g. a grid's planes). Collective.
   template <class Fill>
   static NodeSharedArray filled(std::shared_ptr<const NodeLayout> layout, std::size_t count,
-                                Fill fill) {
+                                Fill fill, std::size_t granule = 1) {
+    TEXSIM_VERIFY(granule >= 1 && count % granule == 0,
+                  "node-shared array of " << count << " elements in granules of " << granule);
     const Comm node = layout->node;
+    const std::size_t granules = count / granule;
     NodeSharedBytes bytes(std::move(layout), count * sizeof(T));
     const std::span<T> all(reinterpret_cast<T*>(bytes.bytes().data()), count);
-    fill(all, count * std::size_t(node.rank) / std::size_t(node.size),
-         count * std::size_t(node.rank + 1) / std::size_t(node.size));
+    fill(all, granule * (granules * std::size_t(node.rank) / std::size_t(node.size)),
+         granule * (granules * std::size_t(node.rank + 1) / std::size_t(node.size)));
     bytes.synchronise();
     return NodeSharedArray(std::move(bytes));
   }

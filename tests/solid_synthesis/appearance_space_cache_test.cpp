@@ -122,20 +122,24 @@ TEST(AppearanceSpaceCache, ForeignDamagedOrUnwritableFilesAreNotUsed) {
       Error)
       << "a space that does not fit its key";
 
-  // One flipped bit inside the finest level's features: the Fletcher-32 checksum catches it.
+  // One flipped bit inside the finest level's features, in its first plane (read by rank 0) or
+  // its last (read by the last rank): the Fletcher-32 checksum catches it, and every rank
+  // recomputes.
   const std::string intact = read_file(file);
-  if (comm.is_root()) {
-    const auto features = built.levels.front().features.data();
-    const std::string_view needle(reinterpret_cast<const char*>(features.data()), 64);
-    const auto at = intact.find(needle);
-    EXPECT_NE(at, std::string::npos) << "features not stored verbatim";
-    test::Bytes bytes(intact.begin(), intact.end());
-    if (at != std::string::npos)
-      bytes[at + 40] ^= 0x10;
-    test::write_bytes(file, bytes);
+  const auto features = built.levels.front().features.data();
+  for (const std::size_t offset : {std::size_t{0}, features.size_bytes() - 64}) {
+    if (comm.is_root()) {
+      const std::string_view needle(reinterpret_cast<const char*>(features.data()) + offset, 64);
+      const auto at = intact.find(needle);
+      EXPECT_NE(at, std::string::npos) << "features not stored verbatim";
+      test::Bytes bytes(intact.begin(), intact.end());
+      if (at != std::string::npos)
+        bytes[at + 40] ^= 0x10;
+      test::write_bytes(file, bytes);
+    }
+    comm.barrier();
+    EXPECT_FALSE(load_appearance_space(comm, file, key).has_value()) << "flipped bit at " << offset;
   }
-  comm.barrier();
-  EXPECT_FALSE(load_appearance_space(comm, file, key).has_value()) << "flipped bit";
 
   // Truncated and foreign files are not used; saving again replaces them.
   if (comm.is_root())

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -93,6 +94,27 @@ TEST(GaussianStack3d, PeriodicStackKeepsTheMeanAndEndsConstant) {
   for (std::size_t v = 0; v < grid.voxel_count(); ++v) {
     for (std::size_t c = 0; c < 3; ++c) {
       ASSERT_NEAR(stack.back().voxel(v)[c], mean[c], 1e-6);
+    }
+  }
+}
+
+TEST(GaussianStack3d, AnyRunOfPlanesIsTheSameBytesAsTheWholeBlur) {
+  // Odd sizes and spacings up to past the grid, so taps wrap or clamp and repeat planes.
+  const vol::ChannelGrid grid = random_grid({7, 5, 9}, 3, 11);
+  const std::size_t plane = 7 * 5 * 3;
+  for (const bool periodic : {true, false}) {
+    for (const int spacing : {1, 2, 4, 16}) {
+      const vol::ChannelGrid whole = vol::binomial_blur_3d(grid, spacing, periodic);
+      for (const auto& [z_begin, z_end] :
+           {std::pair{0, 9}, std::pair{0, 1}, std::pair{3, 5}, std::pair{8, 9}, std::pair{4, 4}}) {
+        std::vector<float> planes(plane * static_cast<std::size_t>(z_end - z_begin));
+        vol::binomial_blur_3d_planes(grid, spacing, periodic, z_begin, z_end, planes);
+        const auto expected =
+            whole.data().subspan(plane * static_cast<std::size_t>(z_begin), planes.size());
+        EXPECT_EQ(std::memcmp(planes.data(), expected.data(), expected.size_bytes()), 0)
+            << "periodic " << periodic << ", spacing " << spacing << ", planes [" << z_begin << ", "
+            << z_end << ")";
+      }
     }
   }
 }

@@ -294,14 +294,19 @@ TEST(SimilaritySetCache, RoundTripAndRefusals) {
   const std::string other_key = similarity_cache_key(features, {4, 7, false});
   EXPECT_FALSE(load_similarity_sets(comm, file, other_key).has_value()) << "key mismatch";
 
-  // A file holding sets that cannot be right (C_1(v) != v) is not used.
-  std::vector<std::int32_t> wrong(sets.candidates.begin(), sets.candidates.end());
-  wrong[static_cast<std::size_t>(sets.k) * 5] = 6;
-  const SimilaritySets broken{
-      sets.dims, sets.k,
-      par::NodeSharedArray<std::int32_t>::from_root(par::NodeLayout::make(comm), wrong)};
-  save_similarity_sets(comm, file, key, broken);
-  EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "inconsistent sets";
+  // A file holding sets that cannot be right (C_1(v) != v) is not used, whether the wrong set is
+  // in the first planes (read by rank 0) or the last (read by the last rank).
+  const std::size_t voxels = sets.dims.count();
+  for (const std::size_t v : {std::size_t{5}, voxels - 1}) {
+    std::vector<std::int32_t> wrong(sets.candidates.begin(), sets.candidates.end());
+    wrong[static_cast<std::size_t>(sets.k) * v] = static_cast<std::int32_t>((v + 1) % voxels);
+    const SimilaritySets broken{
+        sets.dims, sets.k,
+        par::NodeSharedArray<std::int32_t>::from_root(par::NodeLayout::make(comm), wrong)};
+    save_similarity_sets(comm, file, key, broken);
+    EXPECT_FALSE(load_similarity_sets(comm, file, key).has_value()) << "inconsistent set " << v;
+    comm.barrier(); // rank 0 writes again next
+  }
 
   // Truncated and foreign files are not used; saving again replaces them.
   save_similarity_sets(comm, file, key, sets);

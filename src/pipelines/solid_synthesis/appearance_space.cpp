@@ -4,6 +4,7 @@
 #include "par/comm.hpp"
 #include "par/node_shared_array.hpp"
 #include "vol/gaussian_stack_3d.hpp"
+#include "vol/node_shared_grid.hpp"
 
 #include <cblas.h>
 #include <mpi.h>
@@ -16,6 +17,8 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -549,14 +552,49 @@ void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, b
   }
 }
 
-vol::ChannelGrid crop(const vol::ChannelGrid& grid, const Box& box) {
-  vol::ChannelGrid out(vol::Dims{box.size[0], box.size[1], box.size[2]}, grid.channels());
-  for (std::size_t m = 0; m < box.count(); ++m) {
-    const auto [i, j, k] = box.voxel(m);
-    const auto in = grid.voxel(grid.index(i, j, k));
-    std::copy(in.begin(), in.end(), out.voxel(m).begin());
+/// Planes [z_begin, z_end) of `grid` cropped to `box`, into `out`.
+void crop_planes(const vol::ChannelGrid& grid, const Box& box, int z_begin, int z_end,
+                 std::span<float> out) {
+  const auto channels = static_cast<std::size_t>(grid.channels());
+  const auto row = static_cast<std::size_t>(box.size[0]) * channels;
+  std::size_t at = 0;
+  for (int k = z_begin; k < z_end; ++k) {
+    for (int j = 0; j < box.size[1]; ++j, at += row) {
+      const auto in =
+          grid.data().subspan(grid.index(box.lo[0], box.lo[1] + j, box.lo[2] + k) * channels, row);
+      std::copy(in.begin(), in.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
+    }
   }
-  return out;
+}
+
+/// `grid` cropped to `box`, held once per node.
+vol::ChannelGrid node_shared_crop(const std::shared_ptr<const par::NodeLayout>& layout,
+                                  const vol::ChannelGrid& grid, const Box& box) {
+  return vol::node_shared_grid(layout, vol::Dims{box.size[0], box.size[1], box.size[2]},
+                               grid.channels(), [&](int z_begin, int z_end, std::span<float> out) {
+                                 crop_planes(grid, box, z_begin, z_end, out);
+                               });
+}
+
+/// The Gaussian stack of `exemplar` (vol::gaussian_stack, the same bytes), every level held once
+/// per node: the node's ranks blur a share of each level's planes.
+std::vector<vol::ChannelGrid>
+node_shared_gaussian_stack(const std::shared_ptr<const par::NodeLayout>& layout,
+                           const vol::ChannelGrid& exemplar, bool periodic) {
+  const vol::Dims dims = exemplar.dims();
+  const Box whole{{0, 0, 0}, {dims.nx, dims.ny, dims.nz}};
+  const int coarsest = vol::coarsest_stack_level(dims);
+  std::vector<vol::ChannelGrid> stack;
+  stack.reserve(static_cast<std::size_t>(coarsest) + 1);
+  stack.push_back(node_shared_crop(layout, exemplar, whole));
+  for (int s = 0; s < coarsest; ++s) {
+    const vol::ChannelGrid& finer = stack.back();
+    stack.push_back(vol::node_shared_grid(
+        layout, dims, exemplar.channels(), [&](int z_begin, int z_end, std::span<float> out) {
+          vol::binomial_blur_3d_planes(finer, 1 << s, periodic, z_begin, z_end, out);
+        }));
+  }
+  return stack;
 }
 
 } // namespace
@@ -588,7 +626,9 @@ AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::Channel
   const double noise_floor =
       components * std::pow(kRoundingUlps * FLT_EPSILON * static_cast<double>(largest), 2);
 
-  std::vector<vol::ChannelGrid> stack = vol::gaussian_stack(exemplar, periodic);
+  const auto layout = par::NodeLayout::make(comm);
+  const std::vector<vol::ChannelGrid> stack =
+      node_shared_gaussian_stack(layout, exemplar, periodic);
   const std::size_t level_count = stack.size();
   AppearanceSpace space;
   space.periodic = periodic;
@@ -634,7 +674,6 @@ AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::Channel
   const auto row_of_rank = [&](int r) { return rows * r / comm.size; };
   const std::pair<std::ptrdiff_t, std::ptrdiff_t> my_rows{row_of_rank(comm.rank),
                                                           row_of_rank(comm.rank + 1)};
-  const auto layout = par::NodeLayout::make(comm);
   const vol::Dims box_dims{box.size[0], box.size[1], box.size[2]};
   for (std::size_t s = 0; s < level_count; ++s) {
     AppearanceLevel& level = space.levels[s];
@@ -646,13 +685,9 @@ AppearanceSpace build_appearance_space(const par::Comm& comm, const vol::Channel
         vol::ChannelGrid(box_dims, options.dimensions,
                          par::NodeSharedArray<float>::concatenate(layout, my_features));
   }
-  // The colours are the same on every rank: rank 0's are held once per node.
-  const vol::ChannelGrid colours = periodic ? exemplar : crop(exemplar, box);
-  space.colours = vol::ChannelGrid(colours.dims(), colours.channels(),
-                                   par::NodeSharedArray<float>::from_root(layout, colours.data()));
-  for (vol::ChannelGrid& level : stack) {
-    space.stack.push_back(periodic ? std::move(level) : crop(level, box));
-  }
+  for (const vol::ChannelGrid& level : stack)
+    space.stack.push_back(periodic ? level : node_shared_crop(layout, level, box));
+  space.colours = space.stack.front(); // stack level 0 is the working exemplar
   return space;
 }
 

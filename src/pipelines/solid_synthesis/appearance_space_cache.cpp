@@ -7,10 +7,12 @@
 #include "io/hdf5_attribute.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/hdf5_scalar_type.hpp"
+#include "io/hdf5_slab.hpp"
 #include "io/scalar_type.hpp"
 #include "par/hdf5_call.hpp"
 #include "par/hdf5_handle.hpp"
 #include "par/node_shared_array.hpp"
+#include "vol/node_shared_grid.hpp"
 
 #include <hdf5.h>
 #include <mpi.h>
@@ -19,6 +21,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <system_error>
@@ -99,13 +103,12 @@ bool fits_options(const AppearanceSpace& space, const AppearanceOptions& options
   return true;
 }
 
-/// Every array of `space` but the colours and features (node-shared), in a fixed order, as bytes:
-/// what rank 0 broadcasts after reading.
+/// Every array of `space` but the grids (node-shared, read plane by plane on every node), in a
+/// fixed order, as bytes: what rank 0 broadcasts after reading.
 std::vector<std::span<std::byte>> payload(AppearanceSpace& space) {
   std::vector<std::span<std::byte>> parts;
   for (std::size_t s = 0; s < space.levels.size(); ++s) {
     AppearanceLevel& level = space.levels[s];
-    parts.push_back(std::as_writable_bytes(space.stack[s].data()));
     parts.push_back(std::as_writable_bytes(
         std::span(level.mean.data(), static_cast<std::size_t>(level.mean.size()))));
     parts.push_back(std::as_writable_bytes(
@@ -116,15 +119,13 @@ std::vector<std::span<std::byte>> payload(AppearanceSpace& space) {
   return parts;
 }
 
-/// A zero space shaped like one that fits `options`, for the ranks that receive the cached one
-/// (the colours and features come node-shared, later).
-AppearanceSpace shaped_space(vol::Dims dims, int channels, int level_count,
-                             const AppearanceOptions& options) {
+/// A zero space shaped like one that fits `options` but without its grids, for the ranks that
+/// receive the cached one's statistics (the grids are read node-shared, later).
+AppearanceSpace shaped_space(int channels, int level_count, const AppearanceOptions& options) {
   const Eigen::Index components = neighbourhood_components(options, channels);
   AppearanceSpace space;
   space.periodic = options.border == ExemplarBorder::toroidal;
   for (int s = 0; s < level_count; ++s) {
-    space.stack.emplace_back(dims, channels);
     AppearanceLevel level;
     level.window = options.window;
     level.mean = Eigen::VectorXd::Zero(components);
@@ -163,59 +164,18 @@ void write_dataset(hid_t parent, const char* name, const Shape& shape, std::span
                    where << ": dataset " << name);
 }
 
-/// An open dataset and its shape.
-struct Dataset {
-  par::Hdf5Handle handle;
-  Shape shape;
-};
-
-Dataset open_dataset(hid_t parent, const char* name, const std::string& where) {
-  Dataset dataset{par::Hdf5Handle(TEXSIM_HDF5_CALL(H5Dopen2(parent, name, H5P_DEFAULT),
-                                                   where << ": dataset " << name),
-                                  H5Dclose),
-                  {}};
-  const par::Hdf5Handle space(
-      TEXSIM_HDF5_CALL(H5Dget_space(dataset.handle.get()), where << ": dataset " << name),
-      H5Sclose);
-  dataset.shape.resize(static_cast<std::size_t>(
-      TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), where << ": dataset " << name)));
-  TEXSIM_HDF5_CALL(H5Sget_simple_extent_dims(space.get(), dataset.shape.data(), nullptr),
-                   where << ": dataset " << name);
-  return dataset;
-}
-
-/// Reads the whole dataset into `values`, which must hold exactly its elements (a mismatch throws).
-template <class T>
-void read_values(const Dataset& dataset, std::span<T> values, const std::string& where) {
-  hsize_t count = 1;
-  for (const hsize_t extent : dataset.shape)
-    count *= extent;
-  TEXSIM_VERIFY(count == values.size(),
-                where << ": dataset holds " << count << " values, not " << values.size());
-  const hid_t type = io::native_hdf5_type(io::scalar_type_of<T>());
-  TEXSIM_HDF5_CALL(
-      H5Dread(dataset.handle.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where);
-}
-
-vol::ChannelGrid read_grid(hid_t parent, const char* name, const std::string& where) {
-  const Dataset dataset = open_dataset(parent, name, where);
-  TEXSIM_VERIFY(dataset.shape.size() == 4, where << ": dataset " << name << " is not 4-D");
-  const auto extent = [&](std::size_t axis) { return static_cast<int>(dataset.shape[axis]); };
-  vol::ChannelGrid grid(vol::Dims{extent(2), extent(1), extent(0)}, extent(3));
-  read_values(dataset, grid.data(), where + ": dataset " + name);
-  return grid;
-}
-
 /// A [n] dataset as a vector, or an [n, m] dataset as the m x n column-major matrix.
 Eigen::MatrixXd read_matrix(hid_t parent, const char* name, const std::string& where) {
-  const Dataset dataset = open_dataset(parent, name, where);
-  TEXSIM_VERIFY(dataset.shape.size() == 1 || dataset.shape.size() == 2,
-                where << ": dataset " << name << " is not 1-D or 2-D");
-  const auto rows = static_cast<Eigen::Index>(dataset.shape.back());
-  const auto cols = static_cast<Eigen::Index>(dataset.shape.size() == 2 ? dataset.shape[0] : 1);
+  const std::string context = where + ": dataset " + name;
+  const par::Hdf5Handle dataset(TEXSIM_HDF5_CALL(H5Dopen2(parent, name, H5P_DEFAULT), context),
+                                H5Dclose);
+  const Shape shape = io::dataset_shape(dataset.get(), context);
+  TEXSIM_VERIFY(shape.size() == 1 || shape.size() == 2, context << " is not 1-D or 2-D");
+  const auto rows = static_cast<Eigen::Index>(shape.back());
+  const auto cols = static_cast<Eigen::Index>(shape.size() == 2 ? shape[0] : 1);
   Eigen::MatrixXd matrix(rows, cols);
-  read_values(dataset, std::span(matrix.data(), static_cast<std::size_t>(matrix.size())),
-              where + ": dataset " + name);
+  io::read_leading_slab(dataset.get(), 0, shape[0],
+                        std::span(matrix.data(), static_cast<std::size_t>(matrix.size())), context);
   return matrix;
 }
 
@@ -223,10 +183,23 @@ std::string level_group(std::size_t s) {
   return "level_" + std::to_string(s);
 }
 
-/// The space in `file` if everything checks out; nothing for a missing, foreign, damaged or
-/// inconsistent file. Not collective.
-std::optional<AppearanceSpace> read_space(const std::filesystem::path& file, const std::string& key,
-                                          const AppearanceOptions& options) {
+/// Whether the grid dataset `name` of `parent` is [nz, ny, nx, channels].
+bool has_grid_shape(hid_t parent, const std::string& name, vol::Dims dims, int channels,
+                    const std::string& where) {
+  const par::Hdf5Handle dataset(
+      TEXSIM_HDF5_CALL(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), where << ": dataset " << name),
+      H5Dclose);
+  return io::dataset_shape(dataset.get(), where + ": dataset " + name) ==
+         Shape{static_cast<hsize_t>(dims.nz), static_cast<hsize_t>(dims.ny),
+               static_cast<hsize_t>(dims.nx), static_cast<hsize_t>(channels)};
+}
+
+/// What `file` holds besides its grids (levels, statistics and principal axes, the working
+/// exemplar's dims and channels) if everything checks out, the grids' shapes included; nothing for
+/// a missing, foreign, damaged or inconsistent file. The grids are not read. Not collective.
+std::optional<std::pair<AppearanceSpace, Shape>> read_structure(const std::filesystem::path& file,
+                                                                const std::string& key,
+                                                                const AppearanceOptions& options) {
   try {
     const std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
     if (!h5)
@@ -234,35 +207,74 @@ std::optional<AppearanceSpace> read_space(const std::filesystem::path& file, con
     const auto level_count = std::get<std::int64_t>(io::read_attribute(h5->get(), "levels", file));
     if (level_count < 1 || level_count > kMaxLevels)
       return std::nullopt;
-    AppearanceSpace space;
+    const par::Hdf5Handle colours(
+        TEXSIM_HDF5_CALL(H5Dopen2(h5->get(), "colours", H5P_DEFAULT), file.string()), H5Dclose);
+    const Shape shape = io::dataset_shape(colours.get(), file.string() + ": dataset colours");
+    if (shape.size() != 4 || shape[3] < 1)
+      return std::nullopt;
+    const vol::Dims dims{static_cast<int>(shape[2]), static_cast<int>(shape[1]),
+                         static_cast<int>(shape[0])};
+    const int channels = static_cast<int>(shape[3]);
+    AppearanceSpace space = shaped_space(channels, static_cast<int>(level_count), options);
     space.periodic = std::get<std::int64_t>(io::read_attribute(h5->get(), "periodic", file)) != 0;
-    space.colours = read_grid(h5->get(), "colours", file.string());
     for (std::size_t s = 0; s < static_cast<std::size_t>(level_count); ++s) {
       const std::string where = file.string() + ": " + level_group(s);
       const par::Hdf5Handle group(
           TEXSIM_HDF5_CALL(H5Gopen2(h5->get(), level_group(s).c_str(), H5P_DEFAULT), where),
           H5Gclose);
-      AppearanceLevel level;
+      AppearanceLevel& level = space.levels[s];
       level.spacing = static_cast<int>(
           std::get<std::int64_t>(io::read_attribute(group.get(), "spacing", file)));
       level.window =
           static_cast<int>(std::get<std::int64_t>(io::read_attribute(group.get(), "window", file)));
       level.retained_variance =
           std::get<double>(io::read_attribute(group.get(), "retained_variance", file));
-      space.stack.push_back(read_grid(group.get(), "stack", where));
-      level.features = read_grid(group.get(), "features", where);
       const Eigen::MatrixXd mean = read_matrix(group.get(), "mean", where);
       if (mean.cols() != 1)
         return std::nullopt;
       level.mean = mean.col(0);
       level.basis = read_matrix(group.get(), "basis", where);
-      space.levels.push_back(std::move(level));
+      if (!has_grid_shape(group.get(), "stack", dims, channels, where) ||
+          !has_grid_shape(group.get(), "features", dims, options.dimensions, where) ||
+          level.spacing != 1 << s || level.window != options.window ||
+          level.mean.size() != neighbourhood_components(options, channels) ||
+          level.basis.rows() != level.mean.size() || level.basis.cols() != options.dimensions)
+        return std::nullopt;
     }
-    if (!fits_options(space, options))
+    if (space.periodic != (options.border == ExemplarBorder::toroidal))
       return std::nullopt;
-    return space;
+    return std::pair{std::move(space), shape};
   } catch (const std::exception&) {
     return std::nullopt; // damaged: the caller rebuilds and overwrites it
+  }
+}
+
+/// The grids of the cache file `h5` (known to have the shapes of `space`'s colours), each held
+/// once per node: every rank reads a share of the planes of each. `failed` is set on a rank whose
+/// reads failed (a damaged chunk). Collective over layout->world.
+void read_grids(const std::shared_ptr<const par::NodeLayout>& layout, hid_t h5,
+                const std::filesystem::path& file, vol::Dims dims, int channels,
+                const AppearanceOptions& options, AppearanceSpace& space, bool& failed) {
+  const auto read = [&](const std::string& name, int grid_channels) {
+    return vol::node_shared_grid(
+        layout, dims, grid_channels, [&](int z_begin, int z_end, std::span<float> out) {
+          if (failed)
+            return;
+          try {
+            const std::string where = file.string() + ": dataset " + name;
+            const par::Hdf5Handle dataset(
+                TEXSIM_HDF5_CALL(H5Dopen2(h5, name.c_str(), H5P_DEFAULT), where), H5Dclose);
+            io::read_leading_slab(dataset.get(), static_cast<std::uint64_t>(z_begin),
+                                  static_cast<std::uint64_t>(z_end), out, where);
+          } catch (const std::exception&) {
+            failed = true;
+          }
+        });
+  };
+  space.colours = read("colours", channels);
+  for (std::size_t s = 0; s < space.levels.size(); ++s) {
+    space.stack.push_back(read(level_group(s) + "/stack", channels));
+    space.levels[s].features = read(level_group(s) + "/features", options.dimensions);
   }
 }
 
@@ -315,32 +327,43 @@ std::optional<AppearanceSpace> load_appearance_space(const par::Comm& comm,
                                                      const std::string& key) {
   const AppearanceOptions options = parse_key(key);
   std::optional<AppearanceSpace> space;
-  if (comm.is_root())
-    space = read_space(file, key, options);
-  // found, nx, ny, nz, channels, levels
+  // found, nx, ny, nz, channels, levels: rank 0 checks the file's structure and statistics.
   std::array<int, 6> shape{};
-  if (space) {
-    const vol::Dims dims = space->colours.dims();
-    const int levels = static_cast<int>(space->levels.size());
-    shape = {1, dims.nx, dims.ny, dims.nz, space->colours.channels(), levels};
+  if (comm.is_root()) {
+    if (auto structure = read_structure(file, key, options)) {
+      const Shape& grid = structure->second;
+      shape = {1,
+               static_cast<int>(grid[2]),
+               static_cast<int>(grid[1]),
+               static_cast<int>(grid[0]),
+               static_cast<int>(grid[3]),
+               static_cast<int>(structure->first.levels.size())};
+      space = std::move(structure->first);
+    }
   }
   MPI_Bcast(shape.data(), static_cast<int>(shape.size()), MPI_INT, 0, comm.raw);
   if (shape[0] == 0)
     return std::nullopt;
   if (!comm.is_root())
-    space = shaped_space({shape[1], shape[2], shape[3]}, shape[4], shape[5], options);
+    space = shaped_space(shape[4], shape[5], options);
   for (const std::span<std::byte> part : payload(*space))
     broadcast_bytes(comm, part);
-  // Rank 0's colours and features, held once per node.
-  const auto layout = par::NodeLayout::make(comm);
-  const vol::Dims dims{shape[1], shape[2], shape[3]};
-  const auto node_shared = [&](const vol::ChannelGrid& read, int channels) {
-    const auto values = comm.is_root() ? read.data() : std::span<const float>();
-    return vol::ChannelGrid(dims, channels, par::NodeSharedArray<float>::from_root(layout, values));
-  };
-  space->colours = node_shared(space->colours, shape[4]);
-  for (AppearanceLevel& level : space->levels)
-    level.features = node_shared(level.features, options.dimensions);
+  // The grids: every rank reads its share of each straight into its node's copy.
+  bool failed = false;
+  {
+    std::optional<par::Hdf5Handle> h5;
+    try {
+      h5 = open_cache_file(file, key, kFormatVersion);
+    } catch (const std::exception&) {
+    }
+    failed = !h5;
+    read_grids(par::NodeLayout::make(comm), h5 ? h5->get() : H5I_INVALID_HID, file,
+               {shape[1], shape[2], shape[3]}, shape[4], options, *space, failed);
+  }
+  int any_failed = failed;
+  MPI_Allreduce(MPI_IN_PLACE, &any_failed, 1, MPI_INT, MPI_MAX, comm.raw);
+  if (any_failed || !fits_options(*space, options))
+    return std::nullopt;
   return space;
 }
 

@@ -8,15 +8,15 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// Bytes per exemplar voxel and stack level that each rank holds: the stack's colours (until the
-/// features are built).
-constexpr std::uint64_t kRankBytesPerVoxel = 12;
+/// Bytes per exemplar voxel that each rank holds: the loaded exemplar's colours (each rank loads
+/// it) and room for a share of a level being blurred or projected.
+constexpr std::uint64_t kRankBytesPerVoxel = 24;
 
-/// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray):
-/// `dimensions` float features, k similarity candidates, and room for the copies made while they
-/// are built and for the correction's candidate coordinates.
+/// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray): the
+/// stack's colours, `dimensions` float features, k similarity candidates, and room for the copies
+/// made while they are built and for the correction's candidate coordinates.
 std::uint64_t node_bytes_per_voxel(const SolidSynthesisSettings& settings) {
-  return 8 * std::uint64_t(settings.appearance.dimensions) +
+  return 12 + 8 * std::uint64_t(settings.appearance.dimensions) +
          8 * std::uint64_t(settings.similarity.k);
 }
 
@@ -42,7 +42,7 @@ MemoryEstimate exemplar_estimate(const SolidSynthesisSettings& settings) {
          voxels)
     ++octaves;
   const std::uint64_t level_voxels = saturating_multiply(voxels, std::uint64_t(octaves + 1));
-  return {saturating_multiply(level_voxels, kRankBytesPerVoxel), key,
+  return {saturating_multiply(voxels, kRankBytesPerVoxel), key,
           "exemplar of " + shape + " x " + std::to_string(octaves + 1) +
               " stack levels, its features and similarity sets held once per node",
           saturating_multiply(level_voxels, node_bytes_per_voxel(settings))};

@@ -7,16 +7,22 @@
 #include "core/log.hpp"
 #include "io/hdf5_attribute.hpp"
 #include "io/hdf5_file.hpp"
+#include "io/hdf5_slab.hpp"
 #include "par/hdf5_call.hpp"
 #include "par/hdf5_handle.hpp"
+#include "par/node_shared_array.hpp"
 
 #include <hdf5.h>
 #include <mpi.h>
 
 #include <array>
 #include <cstdio>
+#include <optional>
+#include <span>
 #include <string_view>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -54,45 +60,38 @@ KeyFields parse_key(const std::string& key) {
   return f;
 }
 
-/// The candidates in `file` if everything checks out; nothing for a missing, foreign, damaged or
-/// inconsistent file. Not collective.
-std::optional<std::vector<std::int32_t>> read_candidates(const std::filesystem::path& file,
-                                                         const std::string& key,
-                                                         const KeyFields& expected) {
-  try {
-    const std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
-    if (!h5)
-      return std::nullopt;
-    const int k = expected.options.k;
-    const par::Hdf5Handle data(
-        TEXSIM_HDF5_CALL(H5Dopen2(h5->get(), kDataset, H5P_DEFAULT), file.string()), H5Dclose);
-    const par::Hdf5Handle space(TEXSIM_HDF5_CALL(H5Dget_space(data.get()), file.string()),
-                                H5Sclose);
-    std::array<hsize_t, 4> shape{};
-    if (TEXSIM_HDF5_CALL(H5Sget_simple_extent_ndims(space.get()), file.string()) != 4)
-      return std::nullopt;
-    TEXSIM_HDF5_CALL(H5Sget_simple_extent_dims(space.get(), shape.data(), nullptr), file.string());
-    const vol::Dims dims = expected.dims;
-    if (shape != std::array<hsize_t, 4>{static_cast<hsize_t>(dims.nz),
-                                        static_cast<hsize_t>(dims.ny),
-                                        static_cast<hsize_t>(dims.nx), static_cast<hsize_t>(k)})
-      return std::nullopt;
-    std::vector<std::int32_t> candidates(dims.count() * k);
-    TEXSIM_HDF5_CALL(
-        H5Dread(data.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, candidates.data()),
-        file.string());
-    // Structure every valid set has: C_1(v) = v and indices inside the grid.
-    const auto voxels = static_cast<std::int64_t>(dims.count());
-    for (std::int64_t v = 0; v < voxels; ++v)
-      for (int i = 0; i < k; ++i) {
-        const std::int32_t c = candidates[static_cast<std::size_t>(v * k + i)];
-        if (c < 0 || c >= voxels || (i == 0 && c != v))
-          return std::nullopt;
-      }
-    return candidates;
-  } catch (const std::exception&) {
-    return std::nullopt; // damaged: the caller recomputes and overwrites it
+/// The candidates dataset of the open cache file `h5` when it is [nz, ny, nx, k] as `expected`
+/// says; nothing otherwise. May throw for a damaged file. Not collective.
+std::optional<par::Hdf5Handle> open_candidates(hid_t h5, const std::filesystem::path& file,
+                                               const KeyFields& expected) {
+  par::Hdf5Handle data(TEXSIM_HDF5_CALL(H5Dopen2(h5, kDataset, H5P_DEFAULT), file.string()),
+                       H5Dclose);
+  const vol::Dims dims = expected.dims;
+  if (io::dataset_shape(data.get(), file.string()) !=
+      std::vector<hsize_t>{static_cast<hsize_t>(dims.nz), static_cast<hsize_t>(dims.ny),
+                           static_cast<hsize_t>(dims.nx), static_cast<hsize_t>(expected.options.k)})
+    return std::nullopt;
+  return data;
+}
+
+/// Planes [z_begin, z_end) of the candidates into `out`; false when a set lacks the structure
+/// every valid set has (C_1(v) = v, indices inside the grid). May throw for a damaged file.
+bool read_candidate_planes(hid_t data, const std::filesystem::path& file, const KeyFields& fields,
+                           int z_begin, int z_end, std::span<std::int32_t> out) {
+  io::read_leading_slab(data, static_cast<std::uint64_t>(z_begin),
+                        static_cast<std::uint64_t>(z_end), out, file.string());
+  const int k = fields.options.k;
+  const auto voxels = static_cast<std::int64_t>(fields.dims.count());
+  const std::int64_t first =
+      std::int64_t{z_begin} * std::int64_t{fields.dims.nx} * std::int64_t{fields.dims.ny};
+  for (std::size_t at = 0; at < out.size(); ++at) {
+    const std::int32_t c = out[at];
+    const bool first_of_set = at % static_cast<std::size_t>(k) == 0;
+    if (c < 0 || c >= voxels ||
+        (first_of_set && c != first + static_cast<std::int64_t>(at / static_cast<std::size_t>(k))))
+      return false;
   }
+  return true;
 }
 
 void write_sets(const std::filesystem::path& file, const std::string& key, const KeyFields& fields,
@@ -131,18 +130,49 @@ std::optional<SimilaritySets> load_similarity_sets(const par::Comm& comm,
                                                    const std::filesystem::path& file,
                                                    const std::string& key) {
   const KeyFields fields = parse_key(key);
-  std::optional<std::vector<std::int32_t>> candidates;
-  if (comm.is_root())
-    candidates = read_candidates(file, key, fields);
-  int found = candidates.has_value();
+  // Opens the file and its candidates; nothing for a missing, foreign or misshapen file.
+  const auto open = [&]() -> std::optional<std::pair<par::Hdf5Handle, par::Hdf5Handle>> {
+    try {
+      std::optional<par::Hdf5Handle> h5 = open_cache_file(file, key, kFormatVersion);
+      if (!h5)
+        return std::nullopt;
+      std::optional<par::Hdf5Handle> data = open_candidates(h5->get(), file, fields);
+      if (!data)
+        return std::nullopt;
+      return std::pair{std::move(*h5), std::move(*data)};
+    } catch (const std::exception&) {
+      return std::nullopt; // damaged: the caller recomputes and overwrites it
+    }
+  };
+  int found = comm.is_root() && open().has_value();
   MPI_Bcast(&found, 1, MPI_INT, 0, comm.raw);
   if (!found)
     return std::nullopt;
-  const std::span<const std::int32_t> read =
-      comm.is_root() ? std::span<const std::int32_t>(*candidates) : std::span<const std::int32_t>();
-  return SimilaritySets{
-      fields.dims, fields.options.k,
-      par::NodeSharedArray<std::int32_t>::from_root(par::NodeLayout::make(comm), read)};
+  // Every rank reads (and checks) a share of the planes straight into its node's copy.
+  const auto opened = open();
+  bool failed = !opened;
+  const vol::Dims dims = fields.dims;
+  const std::size_t plane = static_cast<std::size_t>(dims.nx) * static_cast<std::size_t>(dims.ny) *
+                            static_cast<std::size_t>(fields.options.k);
+  auto candidates = par::NodeSharedArray<std::int32_t>::filled(
+      par::NodeLayout::make(comm), plane * static_cast<std::size_t>(dims.nz),
+      [&](std::span<std::int32_t> all, std::size_t begin, std::size_t end) {
+        if (failed)
+          return;
+        try {
+          failed = !read_candidate_planes(
+              opened->second.get(), file, fields, static_cast<int>(begin / plane),
+              static_cast<int>(end / plane), all.subspan(begin, end - begin));
+        } catch (const std::exception&) {
+          failed = true;
+        }
+      },
+      plane);
+  int any_failed = failed;
+  MPI_Allreduce(MPI_IN_PLACE, &any_failed, 1, MPI_INT, MPI_MAX, comm.raw);
+  if (any_failed)
+    return std::nullopt;
+  return SimilaritySets{dims, fields.options.k, std::move(candidates)};
 }
 
 void save_similarity_sets(const par::Comm& comm, const std::filesystem::path& file,

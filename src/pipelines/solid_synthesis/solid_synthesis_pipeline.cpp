@@ -107,9 +107,9 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
       if (!settings_.cache_dir.empty())
         save_appearance_space(comm, cache_file, key, space);
     }
-    // The Gaussian stack's colours were for the features and the cache; synthesis reads the
-    // features (22 MB a rank less for a 64^3 colour exemplar), the outputs space.colours, so the
-    // loaded exemplar's own colours go too (its hash and description stay).
+    // The Gaussian stack was for the features and the cache; synthesis reads the features, the
+    // outputs space.colours, so the stack (once per node) and the loaded exemplar's own colours
+    // (once per rank) go (its hash and description stay).
     space.stack.clear();
     exemplar.colours = vol::ChannelGrid();
     log::info(log::cat("appearance space: ", from_cache ? "read from the cache" : "computed"));
