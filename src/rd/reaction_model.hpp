@@ -72,6 +72,10 @@ public:
   /// (turk_rd's cell solver); null for every other model.
   virtual const TuringSpotsModel* as_turing_spots() const { return nullptr; }
 
+  /// Angular frequency of the model's periodic forcing, 0 for an unforced model: the pipeline
+  /// measures which phases of the forcing the pattern locks to (fem_rd's locked_phase).
+  virtual double forcing_omega() const { return 0.0; }
+
   /// The model's per-vertex random substrate (beta), if it has one.
   virtual const RandomSubstrate* random_substrate() const { return nullptr; }
 

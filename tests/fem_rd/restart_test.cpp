@@ -183,6 +183,40 @@ TEST(FemRdRestartLoopBasis, AtTheSameRankCountEndsBitIdentical) {
   }
 }
 
+TEST(FemRdRestartForcedOscillator, LockedPhaseSumsSurviveTheRestart) {
+  // Fig. 5's model on a small sphere: its 80 steps all fall in the locked-phase window (two
+  // response periods, 119 steps of 0.25), so the middle checkpoint holds half-summed Fourier
+  // sums that the restart must carry on; summary.json's figures then agree bit for bit.
+  const fs::path dir = test::scratch_dir("fem_rd_restart_forced");
+  const fs::path a = dir / "a", b = dir / "b";
+  const auto run = [&](const fs::path& out, const std::string& options) {
+    return test::run_command(
+        test::texsim_under_mpirun(2) + " " +
+        (test::source_dir() / "config/fem_rd/forced_oscillator.yaml").string() +
+        " --set fem_rd.mesh.level=3 --set fem_rd.mesh.radius=10 --set fem_rd.time.steps=80"
+        " --set checkpoint.every=40 --set output.every=40 --set output.dir=" +
+        out.string() + " " + options);
+  };
+  const auto uninterrupted = run(a, "--quiet");
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.output;
+  fs::copy(a, b, fs::copy_options::recursive);
+  ASSERT_TRUE(fs::remove(test::checkpoint_file(b, 80)));
+  ASSERT_TRUE(fs::remove(b / "summary.json"));
+  const auto restarted = run(b, "--restart");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  EXPECT_NE(restarted.output.find("at step 40"), std::string::npos) << restarted.output;
+
+  const FinalState x = read_final_state(a), y = read_final_state(b);
+  for (const char* name : {"locked_phase_u_0", "locked_phase_u_cos_0", "locked_phase_u_sin_0"}) {
+    ASSERT_TRUE(x.real.contains(name)) << name;
+    EXPECT_TRUE(same_bits(x.real.at(name), y.real.at(name))) << name;
+    EXPECT_NE(x.real.at(name), std::vector<double>(x.real.at(name).size(), 0.0)) << name;
+  }
+  const auto phases_a = test::read_summary(a)["metrics"]["locked_phase"];
+  ASSERT_TRUE(phases_a.contains("order_4")) << phases_a.dump();
+  EXPECT_EQ(test::read_summary(b)["metrics"]["locked_phase"].dump(), phases_a.dump());
+}
+
 TEST_F(FemRdRestart, FramesHoldIntegerIdsAndNoTemporaryFileIsLeft) {
   EXPECT_TRUE(test::temporary_files_under(run_a()).empty());
   std::vector<fs::path> frames;

@@ -14,6 +14,7 @@
 #include "par/record_exchange.hpp"
 #include "pipelines/fem_rd/frame_writer.hpp"
 #include "pipelines/fem_rd/geometry_smoother.hpp"
+#include "pipelines/fem_rd/locked_phase.hpp"
 #include "pipelines/fem_rd/pattern_orientation.hpp"
 #include "pipelines/fem_rd/pattern_regions.hpp"
 #include "pipelines/fem_rd/state_checkpoint.hpp"
@@ -120,6 +121,10 @@ void FemRdPipeline::run(RunContext& ctx) {
   std::unique_ptr<GeometrySmoother> smoother;
   GeometryState geometry{mesh->mesh().positions, mesh->mesh().positions};
   std::vector<double> initial_mass;
+  // A forced model's locked phases (Fig. 5's pattern classes), summed over the run's last
+  // response periods and kept in checkpoints.
+  std::unique_ptr<LockedPhase> locked_phase;
+  std::vector<ExtraColumn> extra_columns;
   io::CheckpointStore store(comm, run.output_dir / "checkpoints", run.config_hash,
                             run.checkpoint_keep);
   std::int64_t start = 0;
@@ -136,9 +141,17 @@ void FemRdPipeline::run(RunContext& ctx) {
       smoother = std::make_unique<GeometrySmoother>(comm, *mesh, settings_.smoother);
     for (std::size_t s = 0; s < solver_owner->species_count(); ++s)
       initial_mass.push_back(solver_owner->integral(s));
+    if (model_->forcing_omega() > 0) {
+      locked_phase = std::make_unique<LockedPhase>(model_->forcing_omega(), settings_.rd.dt,
+                                                   settings_.steps, mesh->owned_count());
+      for (const auto& [dataset, owned] : locked_phase->checkpoint_columns())
+        extra_columns.push_back({dataset, owned});
+    }
     if (run.restart) {
       const auto reader = store.resolve_for_restart(*run.restart);
-      start = load_state(reader, *mesh, *solver_owner, geometry);
+      start = load_state(reader, *mesh, *solver_owner, geometry, extra_columns);
+      if (locked_phase)
+        locked_phase->resume(comm, start);
       mesh->set_positions(geometry.matrix_positions);
       solver_owner->rebuild_geometry();
       mesh->set_positions(geometry.positions);
@@ -189,13 +202,15 @@ void FemRdPipeline::run(RunContext& ctx) {
       auto stage = ctx.timers.scope("rd_step");
       solver.step(double(step) * settings_.rd.dt);
     }
+    if (locked_phase) // u, the first species
+      locked_phase->add(step, solver.local_values(0).first(std::size_t(mesh->owned_count())));
     const std::int64_t done = step + 1;
     if (done % run.output_every == 0 || done == settings_.steps)
       write_output(done);
     const auto decision = clock.after_step(done);
     if (decision.checkpoint) {
       auto stage = ctx.timers.scope("checkpoint");
-      save_state(store, done, *mesh, solver, geometry);
+      save_state(store, done, *mesh, solver, geometry, extra_columns);
     }
     if (decision.stop)
       throw CheckpointedStop(decision.signal_number, "after step " + std::to_string(done));
@@ -230,6 +245,13 @@ void FemRdPipeline::run(RunContext& ctx) {
     }
   }
   report.metric("species", species);
+  if (locked_phase) {
+    const nlohmann::json phases = locked_phase->metrics(comm);
+    report.metric("locked_phase", phases);
+    log::info(log::cat("locked phase at omega_f / 4: R1 ", phases["order_1"].get<double>(), ", R2 ",
+                       phases["order_2"].get<double>(), ", R4 ", phases["order_4"].get<double>(),
+                       ": ", phases["phases"].get<int>(), " phase(s)"));
+  }
   report.metric("steps", settings_.steps);
   report.metric("solver", solver.solver_description());
   report.metric("linear_solver", solver.solver_metrics());

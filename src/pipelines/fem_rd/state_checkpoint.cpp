@@ -45,7 +45,7 @@ struct RowRequest {
 
 void save_state(const io::CheckpointStore& store, std::int64_t step,
                 const geom::DistributedMesh& mesh, const ReactionDiffusionSolver& solver,
-                const GeometryState& geometry) {
+                const GeometryState& geometry, const std::vector<ExtraColumn>& extra) {
   auto writer = store.begin(step);
   const std::uint64_t offset = std::uint64_t(mesh.owned_begin());
   const std::uint64_t count = std::uint64_t(mesh.global_count());
@@ -54,6 +54,8 @@ void save_state(const io::CheckpointStore& store, std::int64_t step,
   for (std::size_t s = 0; s < solver.species_count(); ++s)
     writer.write<double>(species_dataset(solver.species_names()[s]),
                          solver.local_values(s).first(mesh.owned_count()), offset, count);
+  for (const ExtraColumn& column : extra)
+    writer.write<double>(column.dataset, *column.owned, offset, count);
   writer.write<double>("positions", owned_xyz(mesh, geometry.positions), offset, count, 3);
   writer.write<double>("matrix_positions", owned_xyz(mesh, geometry.matrix_positions), offset,
                        count, 3);
@@ -61,7 +63,8 @@ void save_state(const io::CheckpointStore& store, std::int64_t step,
 }
 
 std::int64_t load_state(const io::CheckpointReader& reader, const geom::DistributedMesh& mesh,
-                        ReactionDiffusionSolver& solver, GeometryState& geometry) {
+                        ReactionDiffusionSolver& solver, GeometryState& geometry,
+                        const std::vector<ExtraColumn>& extra) {
   const par::Comm& comm = mesh.comm();
   const std::uint64_t n = std::uint64_t(mesh.global_count());
   if (!reader.has_dataset("input_vertex_id") || reader.global_count("input_vertex_id") != n)
@@ -74,8 +77,15 @@ std::int64_t load_state(const io::CheckpointReader& reader, const geom::Distribu
                        "' (written by another model)");
     datasets.push_back(species_dataset(name));
   }
-  const std::size_t species = datasets.size();
-  const std::size_t width = species + 6; // species, positions, matrix positions
+  for (const ExtraColumn& column : extra) {
+    if (!reader.has_dataset(column.dataset))
+      throw InputError(reader.path().string() + ": no dataset '" + column.dataset +
+                       "' (written by another model or version)");
+    datasets.push_back(column.dataset);
+  }
+  const std::size_t species = solver.species_count();
+  const std::size_t columns = datasets.size(); // species, then the extra columns
+  const std::size_t width = columns + 6;       // and positions, matrix positions
 
   // This rank's share of the rows, as (input id, `width` values) records.
   const auto split = even_split(n, comm.size);
@@ -83,16 +93,16 @@ std::int64_t load_state(const io::CheckpointReader& reader, const geom::Distribu
   std::vector<std::int64_t> ids(rows);
   reader.read<std::int64_t>("input_vertex_id", ids, first, rows);
   std::vector<double> table(rows * width), column(rows), xyz(3 * rows);
-  for (std::size_t s = 0; s < species; ++s) {
-    reader.read<double>(datasets[s], column, first, rows);
+  for (std::size_t c = 0; c < columns; ++c) {
+    reader.read<double>(datasets[c], column, first, rows);
     for (std::uint64_t row = 0; row < rows; ++row)
-      table[row * width + s] = column[row];
+      table[row * width + c] = column[row];
   }
   for (int which = 0; which < 2; ++which) {
     reader.read<double>(which == 0 ? "positions" : "matrix_positions", xyz, first, rows);
     for (std::uint64_t row = 0; row < rows; ++row)
       for (int axis = 0; axis < 3; ++axis)
-        table[row * width + species + 3 * which + axis] = xyz[3 * row + axis];
+        table[row * width + columns + 3 * which + axis] = xyz[3 * row + axis];
   }
 
   // Each row goes to the rank that keeps its input id's range...
@@ -140,19 +150,21 @@ std::int64_t load_state(const io::CheckpointReader& reader, const geom::Distribu
   const auto indices = par::exchange_records(comm, index_out);
   const auto answers = par::exchange_records(comm, answer_out);
 
-  std::vector<std::vector<double>> owned(species, std::vector<double>(mesh.owned_count()));
+  std::vector<std::vector<double>> owned(columns, std::vector<double>(mesh.owned_count()));
   const std::size_t local_vertices = mesh.mesh().positions.size();
   std::vector<double> positions(3 * local_vertices), matrix_positions(3 * local_vertices);
   for (std::size_t a = 0; a < indices.size(); ++a) {
     const double* row = answers.data() + a * width;
     const auto v = std::size_t(indices[a]);
-    for (std::size_t s = 0; s < species; ++s)
-      owned[s][v] = row[s];
-    std::copy(row + species, row + species + 3, positions.begin() + 3 * std::ptrdiff_t(v));
-    std::copy(row + species + 3, row + width, matrix_positions.begin() + 3 * std::ptrdiff_t(v));
+    for (std::size_t c = 0; c < columns; ++c)
+      owned[c][v] = row[c];
+    std::copy(row + columns, row + columns + 3, positions.begin() + 3 * std::ptrdiff_t(v));
+    std::copy(row + columns + 3, row + width, matrix_positions.begin() + 3 * std::ptrdiff_t(v));
   }
   for (std::size_t s = 0; s < species; ++s)
     solver.set_owned_values(s, owned[s]);
+  for (std::size_t e = 0; e < extra.size(); ++e)
+    *extra[e].owned = std::move(owned[species + e]);
   for (auto [values, target] : {std::pair{&positions, &geometry.positions},
                                 std::pair{&matrix_positions, &geometry.matrix_positions}}) {
     mesh.update_halo(*values, 3);
