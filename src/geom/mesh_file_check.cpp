@@ -448,13 +448,14 @@ MeshFileCounts check_ply(const std::filesystem::path& path, std::string_view tex
 // STL
 
 /// VTK decides between ASCII and binary STL as vtksys::SystemTools::DetectFileType does: binary
-/// when at least 5% of the first 256 bytes are neither printable nor white space.
+/// when at least 5% of the first 256 bytes are not text, text being 0x20-0x7F, tab, line feed
+/// and carriage return (so vertical tab and form feed count as binary, unlike for isspace).
 bool looks_binary(std::string_view text) {
   const std::size_t n = std::min<std::size_t>(text.size(), 256);
   std::size_t other = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = static_cast<unsigned char>(text[i]);
-    other += !(std::isprint(c) || std::isspace(c));
+    other += !((c >= 0x20 && c <= 0x7F) || c == '\t' || c == '\n' || c == '\r');
   }
   return n > 0 && double(other) / double(n) >= 0.05;
 }

@@ -89,8 +89,8 @@ TEST(LockedPhase, FiguresAreTheSameBitsOnAnySplit) {
   for (std::int64_t step = 0; step < kSteps; ++step) {
     const double t = double(step + 1) * kDt;
     for (std::int64_t v = 0; v < kVertices; ++v)
-      u[std::size_t(v)] = 2 + 0.7 * std::cos(kOmegaF / 4 * t + 0.01 * double(v % 97)) +
-                          0.1 * std::cos(kOmegaF * t);
+      u[std::size_t(v)] =
+          2 + 0.7 * std::cos(kOmegaF / 4 * t + 0.01 * double(v % 97)) + 0.1 * std::cos(kOmegaF * t);
     whole.add(step, u);
   }
   EXPECT_EQ(split.dump(), whole.metrics(self).dump());

@@ -16,9 +16,9 @@ LockedPhase::LockedPhase(double forcing_omega, double dt, std::int64_t steps,
                          std::int32_t owned_count, int periods)
     : omega_(forcing_omega / 4), dt_(dt), steps_(steps),
       sums_(2 * kSums, std::vector<double>(static_cast<std::size_t>(owned_count), 0.0)) {
-  TEXSIM_VERIFY(forcing_omega > 0 && dt > 0 && periods >= 1,
-                "locked phase: forcing omega " << forcing_omega << ", dt " << dt << ", periods "
-                                               << periods);
+  TEXSIM_VERIFY(forcing_omega > 0 && dt > 0 && periods >= 1, "locked phase: forcing omega "
+                                                                 << forcing_omega << ", dt " << dt
+                                                                 << ", periods " << periods);
   const double window = periods * 2 * std::numbers::pi / omega_;
   first_step_ = std::max<std::int64_t>(0, steps - std::llround(window / dt));
   stored_first_step_.assign(static_cast<std::size_t>(owned_count), double(first_step_));

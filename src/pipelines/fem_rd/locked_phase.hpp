@@ -62,13 +62,13 @@ public:
   nlohmann::json metrics(const par::Comm& comm) const;
 
 private:
-  double omega_ = 0;          ///< response angular frequency, omega_f / 4
+  double omega_ = 0; ///< response angular frequency, omega_f / 4
   double dt_ = 0;
-  std::int64_t first_step_ = 0; ///< first step whose end is in the window
+  std::int64_t first_step_ = 0;     ///< first step whose end is in the window
   std::int64_t middle_step() const; ///< first step of the window's second half
   std::int64_t steps_ = 0;
   std::vector<std::vector<double>> sums_; ///< [half * kSums + sum][owned vertex]
-  std::vector<double> stored_first_step_;  ///< first_step_ at every owned vertex, for checkpoints
+  std::vector<double> stored_first_step_; ///< first_step_ at every owned vertex, for checkpoints
 };
 
 } // namespace texsim::pipelines::fem_rd

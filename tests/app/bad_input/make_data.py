@@ -157,6 +157,10 @@ def main():
     write("stl_ascii_inf.stl", stl_ascii("-inf"))
     write("stl_empty.stl", "")
     write("stl_ascii_outside_grammar.stl", stl_ascii().replace("outer loop", "outer lop"))
+    # Text in STL's ASCII grammar whose vertical tabs (binary to VTK, white space to isspace) make
+    # 6 % of its bytes: VTK reads it as binary, with bytes 80-83 ("abcd") as 1.7e9 triangles.
+    write("stl_vertical_tabs_binary.stl",
+          (b"solid t" + b"\v" * 6 + b"\nendsolid " + b"t" * 57 + b"abcd").ljust(100, b"t"))
     # OBJ
     write("obj_nan_vertex.obj", obj(vertices=TETRA_V[:3] + [("nan", "0", "1")]))
     write("obj_inf_vertex.obj", obj(vertices=TETRA_V[:3] + [("0", "inf", "1")]))
