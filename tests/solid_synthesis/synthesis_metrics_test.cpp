@@ -154,6 +154,50 @@ TEST(SynthesisMetrics, NeighbourhoodErrorOfNoiseMatchesBruteForce) {
   }
 }
 
+// The tree's nearest distances against a full scan with the same metric, to the bit, on
+// features of three kinds: uniform noise, smooth (few distinct directions, long runs of close
+// values) and tie-heavy (values from 3 levels, so most queries have many equally near voxels and
+// many an exact match); queries half exemplar rows, half perturbed.
+TEST(SynthesisMetrics, NearestDistancesAreAFullScansBits) {
+  const CounterRng rng(21, 0);
+  for (const int channels : {3, 8, 40}) {
+    for (const int kind : {0, 1, 2}) {
+      vol::ChannelGrid exemplar({12, 10, 9}, channels);
+      for (std::size_t v = 0; v < exemplar.voxel_count(); ++v)
+        for (int c = 0; c < channels; ++c) {
+          const double u = rng.uniform(v * 64 + std::size_t(c), std::uint64_t(kind));
+          exemplar.voxel(v)[c] = kind == 0   ? float(u)
+                                 : kind == 1 ? float(std::sin(0.05 * double(v) * (c + 1)))
+                                             : float(std::floor(3 * u));
+        }
+      std::vector<float> queries;
+      for (std::size_t q = 0; q < 400; ++q)
+        for (int c = 0; c < channels; ++c) {
+          const float base = exemplar.voxel((q * 7) % exemplar.voxel_count())[c];
+          queries.push_back(q % 2 == 0 ? base : base + float(0.3 * rng.normal(q * 64 + c, 9)));
+        }
+      const std::vector<double> fast = nearest_appearance_distances(queries, exemplar);
+      ASSERT_EQ(fast.size(), 400u);
+      for (std::size_t q = 0; q < fast.size(); ++q) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t v = 0; v < exemplar.voxel_count(); ++v) {
+          double squared = 0.0;
+          for (int c = 0; c < channels; ++c) {
+            const double d = double(queries[q * channels + c]) - double(exemplar.voxel(v)[c]);
+            squared += d * d;
+          }
+          best = std::min(best, squared);
+        }
+        ASSERT_EQ(fast[q], std::sqrt(best))
+            << channels << " channels, kind " << kind << ", query " << q;
+        if (q % 2 == 0) {
+          EXPECT_EQ(fast[q], 0.0); // an exemplar row is its own nearest
+        }
+      }
+    }
+  }
+}
+
 TEST(SynthesisMetrics, NeighbourhoodErrorDoesNotDependOnTheFeatureScale) {
   const vol::ChannelGrid exemplar = random_grid(8, 1, 3);
   const vol::ChannelGrid noise = random_grid(8, 1, 4);

@@ -23,6 +23,18 @@
 
 namespace texsim::pipelines::solid_synthesis {
 
+/// The squared feature distance the exact searches are defined by: the sum over channels of
+/// (double(a_c) - double(b_c))^2 in channel order. Channel c of a is a[c * a_stride].
+inline double exact_feature_distance(const float* a, std::ptrdiff_t a_stride, const float* b,
+                                     int channels) {
+  double sum = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    const double diff = static_cast<double>(a[c * a_stride]) - static_cast<double>(b[c]);
+    sum += diff * diff;
+  }
+  return sum;
+}
+
 /// What a search reports to: its current radius, and the voxels that may lie within it.
 class FeatureVisitor {
 public:

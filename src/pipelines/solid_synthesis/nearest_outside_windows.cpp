@@ -22,17 +22,6 @@ constexpr std::size_t kScanBatch = 16;
 constexpr std::size_t kTreeBatch = 1;
 constexpr std::size_t kTileBytes = 128 * 1024; ///< lane blocks scanned per pass over the queries
 
-/// The squared feature distance the similarity sets are defined by: the sum over channels of
-/// (double(a_c) - double(b_c))^2 in channel order. Channel c of a is a[c * a_stride].
-double exact_distance(const float* a, std::ptrdiff_t a_stride, const float* b, int channels) {
-  double sum = 0.0;
-  for (int c = 0; c < channels; ++c) {
-    const double diff = static_cast<double>(a[c * a_stride]) - static_cast<double>(b[c]);
-    sum += diff * diff;
-  }
-  return sum;
-}
-
 } // namespace
 
 struct NearestOutsideWindows::QueryState {
@@ -148,9 +137,10 @@ std::size_t NearestOutsideWindows::last_witness(const std::vector<RankedVoxel>& 
 void NearestOutsideWindows::seed(QueryState& query) const {
   const float* query_features = features_.voxel(static_cast<std::size_t>(query.voxel)).data();
   const auto distance_to = [&](std::int32_t voxel) {
-    return RankedVoxel{exact_distance(features_.voxel(static_cast<std::size_t>(voxel)).data(), 1,
-                                      query_features, channels_),
-                       voxel};
+    return RankedVoxel{
+        exact_feature_distance(features_.voxel(static_cast<std::size_t>(voxel)).data(), 1,
+                               query_features, channels_),
+        voxel};
   };
   // The voxels one step outside the window along each axis direction and diagonal: for smooth
   // features they are among the best matches, so the threshold starts close to its final value.
@@ -198,8 +188,8 @@ void NearestOutsideWindows::offer(QueryState& query, const float* query_features
                                   std::ptrdiff_t stride) const {
   if (windows_.inside(query.at, windows_.coordinates(voxel)))
     return;
-  const RankedVoxel candidate{exact_distance(voxel_features, stride, query_features, channels_),
-                              voxel};
+  const RankedVoxel candidate{
+      exact_feature_distance(voxel_features, stride, query_features, channels_), voxel};
   if (!(candidate < query.bound) || candidate.distance > query.seed_bound)
     return;
   // Offers are batched: the witnesses are looked for again once the batch is half the shortlist,

@@ -2,15 +2,16 @@
 
 #include "core/error.hpp"
 #include "img/colour_histogram.hpp"
+#include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -40,54 +41,25 @@ double mean_spread(std::span<const float> vectors, int dimension) {
   return sum / static_cast<double>(count);
 }
 
-/// Exemplar points per block of the nearest-neighbour scan: the block's columns stay in cache
-/// while a group of queries is compared with them.
-constexpr std::size_t kPointBlock = 256;
-/// Queries handled together against one block of points.
-constexpr std::int64_t kQueryGroup = 64;
-/// Points compared with a query at once: one AVX-512 register (two AVX2 ones).
-constexpr std::size_t kLanes = 16;
-using Lanes = float __attribute__((vector_size(kLanes * sizeof(float))));
-
-/// For each of `query_count` queries (rows of `queries`, `dimension` floats each), lowers
-/// best[q] to the smallest squared distance to the points [begin, end) of `columns` (the exemplar
-/// transposed: channel c of point v at columns[c * points + v]). Squares of float differences, so
-/// a query equal to a point gives exactly 0.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void
-lower_to_nearest(const float* columns, std::size_t points, std::size_t begin, std::size_t end,
-                 int dimension, const float* queries, std::int64_t query_count, float* best) {
-  const std::size_t vector_end = begin + (end - begin) / kLanes * kLanes;
-  for (std::int64_t q = 0; q < query_count; ++q) {
-    const float* query = queries + q * dimension;
-    Lanes nearest_lanes;
-    for (std::size_t l = 0; l < kLanes; ++l) {
-      nearest_lanes[l] = best[q];
-    }
-    for (std::size_t v = begin; v < vector_end; v += kLanes) {
-      Lanes squared = {};
-      for (int c = 0; c < dimension; ++c) {
-        Lanes values;
-        std::memcpy(&values, columns + static_cast<std::size_t>(c) * points + v, sizeof(Lanes));
-        const Lanes difference = values - query[c];
-        squared += difference * difference;
-      }
-      nearest_lanes = squared < nearest_lanes ? squared : nearest_lanes;
-    }
-    float nearest = best[q];
-    for (std::size_t l = 0; l < kLanes; ++l) {
-      nearest = std::min(nearest, nearest_lanes[l]);
-    }
-    for (std::size_t v = vector_end; v < end; ++v) {
-      float squared = 0.0f;
-      for (int c = 0; c < dimension; ++c) {
-        const float difference = columns[static_cast<std::size_t>(c) * points + v] - query[c];
-        squared += difference * difference;
-      }
-      nearest = std::min(nearest, squared);
-    }
-    best[q] = nearest;
+/// Lowers its radius to the nearest distance found so far: the tree then visits only the voxels
+/// that can still beat it.
+class NearestVisitor final : public FeatureVisitor {
+public:
+  NearestVisitor(const vol::ChannelGrid& features, const float* query)
+      : features_(features), query_(query) {}
+  /// Once a voxel matches exactly nothing can beat it: a negative radius ends the search.
+  double radius() const override { return nearest_ > 0.0 ? nearest_ : -1.0; }
+  void visit(std::int32_t voxel) override {
+    nearest_ = std::min(nearest_, exact_feature_distance(features_.voxel(std::size_t(voxel)).data(),
+                                                         1, query_, features_.channels()));
   }
-}
+  double nearest() const { return nearest_; }
+
+private:
+  const vol::ChannelGrid& features_;
+  const float* query_;
+  double nearest_ = std::numeric_limits<double>::infinity();
+};
 
 double luminance(std::span<const float> colour) {
   return colour.size() == 1 ? colour[0]
@@ -106,31 +78,25 @@ double appearance_spread(const vol::ChannelGrid& exemplar_features) {
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features) {
   const int dimension = exemplar_features.channels();
-  const std::span<const float> exemplar = exemplar_features.data();
   const auto count = static_cast<std::int64_t>(queries.size() / std::size_t(dimension));
-  // Exact nearest neighbours by a blocked brute-force scan over the exemplar transposed, so each
-  // channel's values are contiguous and the distance loop runs across points in SIMD lanes.
-  const std::size_t points = exemplar_features.voxel_count();
-  std::vector<float> columns(exemplar.size());
-  for (std::size_t v = 0; v < points; ++v) {
-    for (int c = 0; c < dimension; ++c) {
-      columns[static_cast<std::size_t>(c) * points + v] = exemplar[v * dimension + c];
-    }
+  // Exact nearest neighbours through the kd-tree the similarity sets use: on appearance features
+  // it visits a few hundred of the exemplar's voxels per query instead of all of them. Wider
+  // vectors (raw neighbourhoods) than the tree indexes are scanned in full.
+  const bool indexed = dimension <= FeatureKdTree::kMaxChannels;
+  const std::optional<FeatureKdTree> tree =
+      indexed ? std::optional<FeatureKdTree>(exemplar_features) : std::nullopt;
+  std::vector<double> distances(static_cast<std::size_t>(count));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::int64_t q = 0; q < count; ++q) {
+    const float* query = queries.data() + q * dimension;
+    NearestVisitor nearest(exemplar_features, query);
+    if (tree)
+      tree->search(query, nearest);
+    else
+      for (std::size_t v = 0; v < exemplar_features.voxel_count(); ++v)
+        nearest.visit(static_cast<std::int32_t>(v));
+    distances[std::size_t(q)] = std::sqrt(nearest.nearest());
   }
-  std::vector<float> best(static_cast<std::size_t>(count), std::numeric_limits<float>::infinity());
-  const std::int64_t groups = (count + kQueryGroup - 1) / kQueryGroup;
-#pragma omp parallel for schedule(dynamic)
-  for (std::int64_t group = 0; group < groups; ++group) {
-    const std::int64_t first = group * kQueryGroup;
-    const std::int64_t size = std::min(kQueryGroup, count - first);
-    for (std::size_t begin = 0; begin < points; begin += kPointBlock) {
-      lower_to_nearest(columns.data(), points, begin, std::min(points, begin + kPointBlock),
-                       dimension, queries.data() + first * dimension, size, best.data() + first);
-    }
-  }
-  std::vector<double> distances(best.size());
-  std::transform(best.begin(), best.end(), distances.begin(),
-                 [](float squared) { return std::sqrt(static_cast<double>(squared)); });
   return distances;
 }
 

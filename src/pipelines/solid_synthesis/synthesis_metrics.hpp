@@ -30,8 +30,9 @@ double neighbourhood_error(const vol::ChannelGrid& result_colours,
 double appearance_spread(const vol::ChannelGrid& exemplar_features);
 
 /// For each query (rows of `queries`, the features' channel count each), the Euclidean distance
-/// to the nearest exemplar appearance vector: exact, and the same bits for a query whichever
-/// others it is asked with.
+/// to the nearest exemplar appearance vector: the square root of the least exact_feature_distance
+/// over all exemplar voxels (found through a kd-tree, the same bits as a full scan), whichever
+/// other queries it is asked with and however many threads share them.
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features);
 
