@@ -586,7 +586,9 @@ node_shared_gaussian_stack(const std::shared_ptr<const par::NodeLayout>& layout,
   const int coarsest = vol::coarsest_stack_level(dims);
   std::vector<vol::ChannelGrid> stack;
   stack.reserve(static_cast<std::size_t>(coarsest) + 1);
-  stack.push_back(node_shared_crop(layout, exemplar, whole));
+  // An exemplar already held once per node (load_exemplar_once_per_node, on the same ranks'
+  // nodes) is level 0 itself.
+  stack.push_back(exemplar.node_shared() ? exemplar : node_shared_crop(layout, exemplar, whole));
   for (int s = 0; s < coarsest; ++s) {
     const vol::ChannelGrid& finer = stack.back();
     stack.push_back(vol::node_shared_grid(

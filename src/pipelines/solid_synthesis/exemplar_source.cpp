@@ -2,6 +2,9 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "par/collective.hpp"
+#include "par/node_shared_array.hpp"
+#include "par/record_exchange.hpp"
 #include "vol/hdf5_grid_io.hpp"
 #include "vol/inr_reader.hpp"
 #include "vol/procedural_exemplars.hpp"
@@ -14,6 +17,7 @@
 #include <string_view>
 #include <utility>
 #include <variant>
+#include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -184,6 +188,39 @@ Exemplar load_exemplar(const ExemplarSettings& settings) {
     }
   }
   exemplar.content_hash = content_hash(exemplar.colours);
+  return exemplar;
+}
+
+Exemplar load_exemplar_once_per_node(const par::Comm& comm, const ExemplarSettings& settings) {
+  Exemplar loaded;
+  par::run_collectively(comm, [&] {
+    if (comm.is_root())
+      loaded = load_exemplar(settings);
+  });
+  // dims (3), channels, scalar; then the two strings.
+  std::vector<std::int64_t> shape;
+  std::vector<char> text;
+  if (comm.is_root()) {
+    const vol::Dims d = loaded.colours.dims();
+    shape = {d.nx, d.ny, d.nz, loaded.colours.channels(), loaded.scalar ? 1 : 0};
+    text.assign(loaded.description.begin(), loaded.description.end());
+    text.push_back('\0');
+    text.insert(text.end(), loaded.content_hash.begin(), loaded.content_hash.end());
+  }
+  par::broadcast_records(comm, shape);
+  par::broadcast_records(comm, text);
+  const vol::Dims dims{int(shape[0]), int(shape[1]), int(shape[2])};
+  const int channels = int(shape[3]);
+
+  Exemplar exemplar;
+  exemplar.scalar = shape[4] != 0;
+  const auto split = std::find(text.begin(), text.end(), '\0');
+  exemplar.description.assign(text.begin(), split);
+  exemplar.content_hash.assign(split + 1, text.end());
+  const std::span<const float> values =
+      comm.is_root() ? loaded.colours.data() : std::span<const float>();
+  exemplar.colours = vol::ChannelGrid(
+      dims, channels, par::NodeSharedArray<float>::from_root(par::NodeLayout::make(comm), values));
   return exemplar;
 }
 

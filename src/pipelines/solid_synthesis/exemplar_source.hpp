@@ -4,6 +4,7 @@
 ///   exemplar: {file: data/volumes/granite.vti, border: discard}
 ///   exemplar: {procedural: lattice, size: 32, period: 8, seed: 3}
 #include "core/config.hpp"
+#include "par/comm.hpp"
 #include "pipelines/solid_synthesis/appearance_space.hpp"
 #include "vol/channel_grid.hpp"
 
@@ -46,6 +47,12 @@ struct Exemplar {
 /// becoming 0; colour grids as stored) or runs the generator. Serial; the same on every rank.
 /// Throws InputError naming the key path and the file if the file cannot be read.
 Exemplar load_exemplar(const ExemplarSettings& settings);
+
+/// load_exemplar on `comm`'s rank 0 only: the colours are then held once per node (a read-only
+/// node-shared grid; no other rank ever holds a copy, and rank 0's own is freed on return), the
+/// description, hash and kind broadcast. A failure on rank 0 (InputError naming the file) is
+/// thrown on every rank. Collective.
+Exemplar load_exemplar_once_per_node(const par::Comm& comm, const ExemplarSettings& settings);
 
 /// Throws InputError naming the settings' key path when the exemplar is smaller than 2 * window
 /// voxels along an axis: too few distinct neighbourhoods to learn from and to synthesize with.

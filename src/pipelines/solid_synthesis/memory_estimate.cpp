@@ -8,8 +8,9 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-/// Bytes per exemplar voxel that each rank holds: the loaded exemplar's colours (each rank loads
-/// it) and room for a share of a level being blurred or projected.
+/// Bytes per exemplar voxel that the busiest rank holds: rank 0 loads the exemplar (the file's
+/// grid and its colours, before they move to the node windows); any rank, a share of a level
+/// being blurred or projected.
 constexpr std::uint64_t kRankBytesPerVoxel = 24;
 
 /// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray): the

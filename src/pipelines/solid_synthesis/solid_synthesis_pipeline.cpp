@@ -81,10 +81,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
   AppearanceSpace space;
   {
     auto stage = ctx.timers.scope("exemplar");
-    par::run_collectively(comm, [&] {
-      exemplar = load_exemplar(settings_.exemplar);
-      require_exemplar_fits_window(exemplar, settings_.exemplar, settings_.appearance.window);
-    });
+    exemplar = load_exemplar_once_per_node(comm, settings_.exemplar);
+    require_exemplar_fits_window(exemplar, settings_.exemplar, settings_.appearance.window);
     const auto dims = exemplar.colours.dims();
     log::info(log::cat("exemplar: ", exemplar.description, ", ", dims.nx, " x ", dims.ny, " x ",
                        dims.nz, " x ", exemplar.colours.channels(), " channels"));
@@ -108,8 +106,8 @@ void SolidSynthesisPipeline::run(RunContext& ctx) {
         save_appearance_space(comm, cache_file, key, space);
     }
     // The Gaussian stack was for the features and the cache; synthesis reads the features, the
-    // outputs space.colours, so the stack (once per node) and the loaded exemplar's own colours
-    // (once per rank) go (its hash and description stay).
+    // outputs space.colours, so the stack and the loaded exemplar's colours (both once per node)
+    // go (its hash and description stay).
     space.stack.clear();
     exemplar.colours = vol::ChannelGrid();
     log::info(log::cat("appearance space: ", from_cache ? "read from the cache" : "computed"));
