@@ -63,8 +63,8 @@ TEST(ExemplarOncePerNode, ABrokenFileFailsEveryRankWithTheKeyAndTheFile) {
     std::ofstream(path) << "<VTKFile type=\"ImageData\"> truncated";
   MPI_Barrier(par::world().raw);
   const ExemplarSettings settings = settings_from("file: " + path.string());
-  const std::string message = test::input_error_message(
-      [&] { load_exemplar_once_per_node(par::world(), settings); });
+  const std::string message =
+      test::input_error_message([&] { load_exemplar_once_per_node(par::world(), settings); });
   EXPECT_NE(message.find("solid_synthesis.exemplar.file"), std::string::npos) << message;
   EXPECT_NE(message.find("broken.vti"), std::string::npos) << message;
 }

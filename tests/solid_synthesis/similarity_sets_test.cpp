@@ -5,6 +5,7 @@
 // (kd-tree and scan). Plus the cache file.
 #include "core/rng.hpp"
 #include "par/comm.hpp"
+#include "pipelines/solid_synthesis/feature_twins.hpp"
 #include "pipelines/solid_synthesis/similarity_set_cache.hpp"
 #include "pipelines/solid_synthesis/similarity_sets.hpp"
 #include "support/test_data.hpp"
@@ -21,12 +22,14 @@
 namespace texsim::pipelines::solid_synthesis {
 namespace {
 
-enum class Pattern { random, smooth, quantised };
+enum class Pattern { random, smooth, quantised, twins };
 
 /// Features of `channels` floats per voxel: iid uniform; a sum of low-frequency waves (nearest
 /// neighbours in feature space are spatial neighbours, so the windows decide the answer); or
 /// uniform values rounded to three levels on two channels (large classes of exactly equal
-/// features, so ties decide the answer).
+/// features, so ties decide the answer); or iid uniform with small groups of copies (every 5th
+/// voxel copies its x neighbour, inside its window; every 13th a voxel far away), so that some
+/// queries' twins decide their sets and others have too few twins outside the windows.
 vol::ChannelGrid make_features(vol::Dims dims, int channels, Pattern pattern, std::uint64_t seed) {
   const CounterRng rng(seed, 11);
   vol::ChannelGrid grid(dims, pattern == Pattern::quantised ? 2 : channels);
@@ -53,6 +56,15 @@ vol::ChannelGrid make_features(vol::Dims dims, int channels, Pattern pattern, st
           }
         }
       }
+  if (pattern == Pattern::twins) {
+    const auto n = static_cast<std::int64_t>(grid.voxel_count());
+    for (std::int64_t v = 1; v < n; ++v) {
+      const std::int64_t source = v % 5 == 0 ? v - 1 : v % 13 == 0 ? v * 7919 % n : v;
+      if (source != v)
+        std::copy_n(grid.voxel(std::size_t(source)).begin(), grid.channels(),
+                    grid.voxel(std::size_t(v)).begin());
+    }
+  }
   return grid;
 }
 
@@ -170,6 +182,8 @@ const Case kCases[] = {
     {"random_24_open_k5_n7", {24, 24, 24}, 3, Pattern::random, {5, 7, false}, 7},
     {"ties_16_periodic_k3_n7", {16, 16, 16}, 2, Pattern::quantised, {3, 7, true}, 1},
     {"ties_24_open_k5_n3", {24, 24, 24}, 2, Pattern::quantised, {5, 3, false}, 7},
+    {"twins_16_periodic_k3_n7", {16, 16, 16}, 4, Pattern::twins, {3, 7, true}, 1},
+    {"twins_17x16x15_open_k5_n3", {17, 16, 15}, 8, Pattern::twins, {5, 3, false}, 1},
     // Rows of 19 and 33 voxels: partial SIMD chunks; flat grids: windows wrap onto themselves.
     {"smooth_19x13x11_periodic_k5_n7", {19, 13, 11}, 8, Pattern::smooth, {5, 7, true}, 1},
     {"random_33x9x4_open_k3_n7", {33, 9, 4}, 8, Pattern::random, {3, 7, false}, 1},
@@ -196,10 +210,10 @@ TEST(SimilaritySets, EqualBruteForceReference) {
 }
 
 TEST(SimilaritySets, TreeAndScanGiveTheSameSetsOnLargerGrids) {
-  // Beyond the reference's reach: the two searches agree on every voxel of 32^3 grids (the
-  // tie-heavy pattern is covered above: the tree is slow there by design, see the next test).
+  // Beyond the reference's reach: the two searches agree on every voxel of 32^3 grids.
   const par::Comm comm = par::world();
-  for (const auto pattern : {Pattern::smooth, Pattern::random}) {
+  for (const auto pattern :
+       {Pattern::smooth, Pattern::random, Pattern::quantised, Pattern::twins}) {
     const auto features = make_features({32, 32, 32}, 8, pattern, 5);
     for (const bool periodic : {true, false}) {
       SimilarityOptions options{3, 7, periodic};
@@ -213,13 +227,29 @@ TEST(SimilaritySets, TreeAndScanGiveTheSameSetsOnLargerGrids) {
   }
 }
 
-TEST(SimilaritySets, AutomaticSearchAvoidsTheTreeOnSmallGridsAndTies) {
+TEST(SimilaritySets, AutomaticSearchScansOnlySmallGrids) {
   EXPECT_EQ(automatic_search(make_features({32, 32, 32}, 8, Pattern::smooth, 1)),
             ShortlistSearch::tree);
   EXPECT_EQ(automatic_search(make_features({16, 16, 16}, 8, Pattern::smooth, 1)),
             ShortlistSearch::scan);
   EXPECT_EQ(automatic_search(make_features({32, 32, 32}, 2, Pattern::quantised, 1)),
-            ShortlistSearch::scan);
+            ShortlistSearch::tree);
+}
+
+TEST(SimilaritySets, TwinsAreTheVoxelsWithEqualFeaturesInIndexOrder) {
+  vol::ChannelGrid features({5, 1, 1}, 2);
+  const float values[5][2] = {
+      {0.0f, 1.0f}, {1.0f, 0.0f}, {-0.0f, 1.0f}, {1.0f, 0.0f}, {0.0f, 1.5f}};
+  for (std::size_t v = 0; v < 5; ++v)
+    std::copy_n(values[v], 2, features.voxel(v).begin());
+  const FeatureTwins twins(features);
+  const auto as_vector = [](std::span<const std::int32_t> s) {
+    return std::vector<std::int32_t>(s.begin(), s.end());
+  };
+  EXPECT_EQ(as_vector(twins.of(2)), (std::vector<std::int32_t>{0, 2})); // -0 equals +0
+  EXPECT_EQ(as_vector(twins.of(3)), (std::vector<std::int32_t>{1, 3}));
+  EXPECT_EQ(as_vector(twins.of(4)), (std::vector<std::int32_t>{4}));
+  EXPECT_EQ(twins.tied_voxels(), 4);
 }
 
 TEST(SimilaritySets, CandidatesRespectTheWindows) {

@@ -2,13 +2,11 @@
 
 #include "core/error.hpp"
 #include "core/float_distance_scan.hpp"
-#include "core/hash.hpp"
 #include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <string_view>
 
 namespace texsim::pipelines::solid_synthesis {
 namespace {
@@ -49,24 +47,7 @@ struct NearestOutsideWindows::Block {
 
 ShortlistSearch automatic_search(const vol::ChannelGrid& features) {
   constexpr std::size_t kSmallGrid = 32 * 32 * 32;
-  constexpr double kTiedFraction = 0.01;
-  const std::size_t voxels = features.voxel_count();
-  if (voxels < kSmallGrid)
-    return ShortlistSearch::scan;
-  // Equal features give equal hashes; a collision only counts a voxel as tied that is not.
-  std::vector<std::uint64_t> hashes(voxels);
-  for (std::size_t v = 0; v < voxels; ++v) {
-    const auto f = features.voxel(v);
-    hashes[v] = fnv1a64(
-        std::string_view(reinterpret_cast<const char*>(f.data()), f.size() * sizeof(float)));
-  }
-  std::sort(hashes.begin(), hashes.end());
-  std::size_t tied = 0;
-  for (std::size_t i = 0; i < voxels; ++i)
-    tied += (i > 0 && hashes[i] == hashes[i - 1]) || (i + 1 < voxels && hashes[i] == hashes[i + 1]);
-  return static_cast<double>(tied) > kTiedFraction * static_cast<double>(voxels)
-             ? ShortlistSearch::scan
-             : ShortlistSearch::tree;
+  return features.voxel_count() < kSmallGrid ? ShortlistSearch::scan : ShortlistSearch::tree;
 }
 
 NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,

@@ -5,8 +5,7 @@
 /// - tree: a kd-tree over the features (feature_kd_tree) visits only the voxels
 ///   within the current witness distance of p, which shrinks as witnesses are found;
 /// - scan: one pass over all voxels per block of queries (the brute-force kernel, kept as the
-///   reference the benchmark measures the tree against, and the better choice when many voxels
-///   have identical features).
+///   reference the benchmark measures the tree against, and the cheaper one on small grids).
 ///
 /// The scan's fast pass (core/float_distance_scan: register-blocked, 8 queries x 16 voxels,
 /// features stored in 16-voxel lane blocks, one SIMD clone per instruction set) compares float
@@ -73,9 +72,9 @@ struct RankedVoxel {
 };
 
 /// How shortlists are searched (the same shortlists either way). automatic: the tree, unless the
-/// grid is small (under 32^3 voxels, where the scan is cheap) or more than 1% of the voxels share
-/// their exact features with another voxel (a tiling exemplar, flat colours): every such tie lies
-/// at distance 0 and the tree would visit them one by one, where the scan takes 16 at a time.
+/// grid is small (under 32^3 voxels, where the scan is cheap). Exact ties (voxels with identical
+/// features, thousands in flat colours or a tiling exemplar) would make the tree visit them one
+/// by one; similarity_sets settles the queries they decide before any search (feature_twins).
 enum class ShortlistSearch { automatic, tree, scan };
 
 /// The search `automatic` picks for these features.

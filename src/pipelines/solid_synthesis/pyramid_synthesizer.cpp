@@ -375,7 +375,10 @@ bool PyramidSynthesizer::correct(CoordinateSlab& slab, int level,
                                  const StopCheck& stop) const {
   const int s = stack_level(level);
   const int h = spacing(level);
-  stats = LevelStats{level, h, s, false, 0.0};
+  stats = LevelStats{};
+  stats.level = level;
+  stats.spacing = h;
+  stats.stack_level = s;
   const SimilaritySets* sets = exemplar_.sets[s];
   if (!sets || options_.correction_passes == 0)
     return true;

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "pipelines/solid_synthesis/feature_twins.hpp"
 #include "pipelines/solid_synthesis/nearest_outside_windows.hpp"
 
 #include <mpi.h>
@@ -13,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <ranges>
 #include <span>
 #include <vector>
 
@@ -25,26 +27,33 @@ constexpr std::int32_t kQueriesPerTask = 128;
 /// Largest k (the chosen candidates' coordinates live on the stack).
 constexpr int kMaxCandidates = 64;
 
-/// The greedy selection of section 3.2 over a shortlist sorted by (distance, voxel): C_1 = p, then
-/// each next shortlist voxel outside the windows of the candidates chosen so far.
-void select_candidates(std::int32_t query, const std::vector<RankedVoxel>& shortlist,
-                       const ExclusionWindows& windows, int k, std::int32_t* out) {
+/// The greedy selection of section 3.2 over `voxels` in (distance, voxel) order: C_1 = p, then
+/// each next voxel outside the windows of the candidates chosen so far, until k are chosen.
+/// Returns how many were (the rest of `out` is untouched).
+template <class Voxels>
+int select_candidates(std::int32_t query, const Voxels& voxels, const ExclusionWindows& windows,
+                      int k, std::int32_t* out) {
   std::array<int, 3> chosen_at[kMaxCandidates];
   out[0] = query;
   chosen_at[0] = windows.coordinates(query);
   int chosen = 1;
-  for (const RankedVoxel& entry : shortlist) {
+  for (const std::int32_t voxel : voxels) {
     if (chosen == k)
       break;
-    const auto at = windows.coordinates(entry.voxel);
+    const auto at = windows.coordinates(voxel);
     bool outside = true;
     for (int c = 0; c < chosen && outside; ++c)
       outside = !windows.inside(chosen_at[c], at);
     if (outside) {
-      out[chosen] = entry.voxel;
+      out[chosen] = voxel;
       chosen_at[chosen++] = at;
     }
   }
+  return chosen;
+}
+
+/// When no voxel is left outside the windows (tiny exemplars), the last candidate repeats.
+void repeat_last(int chosen, int k, std::int32_t* out) {
   for (; chosen < k; ++chosen)
     out[chosen] = out[chosen - 1];
 }
@@ -87,6 +96,7 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     for (std::int32_t i = first; i < last; ++i)
       local[static_cast<std::size_t>(i - first)] = order[static_cast<std::size_t>(i)];
   } else {
+    const FeatureTwins twins(features);
     const std::int32_t tasks = (last - first + kQueriesPerTask - 1) / kQueriesPerTask;
     Progress progress(comm.size > 1 ? "similarity sets (rank 0's share)" : "similarity sets",
                       last - first, "voxels");
@@ -95,13 +105,26 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     for (std::int32_t task = 0; task < tasks; ++task) {
       const std::int32_t begin = first + task * kQueriesPerTask;
       const std::int32_t end = std::min(last, begin + kQueriesPerTask);
-      const std::span<const std::int32_t> queries(order.data() + begin,
-                                                  static_cast<std::size_t>(end - begin));
-      const auto lists = scanner->shortlists(queries);
-      for (std::int32_t i = begin; i < end; ++i)
-        select_candidates(order[static_cast<std::size_t>(i)],
-                          lists[static_cast<std::size_t>(i - begin)], windows, k,
-                          local.data() + static_cast<std::size_t>(i - first) * k);
+      // A query with k - 1 twins outside the windows has its set: they come first. The others
+      // are searched.
+      std::vector<std::int32_t> searched, searched_at;
+      for (std::int32_t i = begin; i < end; ++i) {
+        const std::int32_t query = order[static_cast<std::size_t>(i)];
+        std::int32_t* out = local.data() + static_cast<std::size_t>(i - first) * k;
+        if (select_candidates(query, twins.of(query), windows, k, out) < k) {
+          searched.push_back(query);
+          searched_at.push_back(i);
+        }
+      }
+      const auto lists = searched.empty() ? std::vector<std::vector<RankedVoxel>>()
+                                          : scanner->shortlists(searched);
+      for (std::size_t q = 0; q < searched.size(); ++q) {
+        std::int32_t* out = local.data() + static_cast<std::size_t>(searched_at[q] - first) * k;
+        repeat_last(select_candidates(searched[q],
+                                      lists[q] | std::views::transform(&RankedVoxel::voxel),
+                                      windows, k, out),
+                    k, out);
+      }
       const std::int64_t finished = done += end - begin;
       if (omp_get_thread_num() == 0)
         progress.update(finished);
