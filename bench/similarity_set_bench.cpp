@@ -11,6 +11,7 @@
 // Sample run:
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/similarity_set_bench --size 64 --repeats 3
 #include "bench_timing.hpp"
+#include "core/float_distance_scan.hpp"
 #include "core/log.hpp"
 #include "core/rng.hpp"
 #include "par/petsc_session.hpp"
@@ -242,6 +243,7 @@ int main(int argc, char** argv) {
         {"window", settings.options.window},
         {"periodic", settings.options.periodic},
         {"search", settings.options.search == ShortlistSearch::tree ? "tree" : "scan"},
+        {"scan_isa", texsim::scan_isa_name(texsim::best_scan_isa())},
         {"ranks", comm.size},
         {"threads", omp_get_max_threads()},
         {"repeats", settings.repeats},

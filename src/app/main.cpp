@@ -7,6 +7,7 @@
 #include "app/preflight.hpp"
 #include "app/run_settings.hpp"
 #include "app/summary_writer.hpp"
+#include "core/float_distance_scan.hpp"
 #include "core/log.hpp"
 #include "core/peak_memory.hpp"
 #include "core/stage_timers.hpp"
@@ -87,6 +88,7 @@ ConfiguredRun configure(const par::Comm& comm, const std::string& text, const Co
     run.common.run.config_hash = document.result_hash(run.pipeline->run_length_keys());
     run.pipeline->configure(root.section(run.common.pipeline), run.common.run);
     document.check_unknown_keys();
+    best_scan_isa(); // TEXSIM_SCAN_ISA is checked here, not first inside a threaded search
   });
   return run;
 }

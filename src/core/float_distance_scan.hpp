@@ -11,6 +11,7 @@
 /// of lane l at [c * kScanLanes + l]. Padding lanes hold +inf and never hit.
 #include <cfloat>
 #include <cstdint>
+#include <vector>
 
 namespace texsim {
 
@@ -35,13 +36,26 @@ struct FloatDistanceScan {
   void* context = nullptr;
 };
 
-/// Scans [chunk_begin, chunk_end) (one SIMD clone per instruction set).
-void scan_float_distances(const FloatDistanceScan& scan);
-/// The same with the penalties added to each distance.
-void scan_float_distances_masked(const FloatDistanceScan& scan);
-/// Scans for query slot 0 only (the others are ignored and get no distances): a lone query costs
-/// an eighth of a full block's arithmetic.
-void scan_float_distances_single(const FloatDistanceScan& scan);
+/// Instruction sets the kernels are compiled for; each kernel keeps its accumulators in
+/// registers of that set's width (4, 8 or 16 floats).
+enum class ScanIsa { kSse2, kAvx2, kAvx512 };
+/// The widest set this CPU runs (AVX2 and AVX-512 with FMA), detected once; TEXSIM_SCAN_ISA=sse2,
+/// avx2 or avx512 picks a narrower one (InputError if unknown or wider than the CPU runs).
+ScanIsa best_scan_isa();
+/// The sets this CPU runs, narrowest first (TEXSIM_SCAN_ISA aside): tests run each kernel.
+std::vector<ScanIsa> supported_scan_isas();
+const char* scan_isa_name(ScanIsa isa);
+
+enum class ScanKernel {
+  kBlock,  ///< kScanQueries queries
+  kMasked, ///< the same with the penalties added to each distance
+  kSingle, ///< query slot 0 only (the others are ignored and get no distances): a lone query
+           ///< costs an eighth of a full block's arithmetic
+};
+
+/// Scans [chunk_begin, chunk_end) with `kernel` compiled for `isa` (which this CPU must run).
+void scan_float_distances(ScanKernel kernel, const FloatDistanceScan& scan,
+                          ScanIsa isa = best_scan_isa());
 
 /// Bit i set where lanes[i] < threshold, for the kScanLanes lanes of a chunk.
 unsigned lanes_below(const float* lanes, float threshold);

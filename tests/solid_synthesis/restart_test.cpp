@@ -4,8 +4,10 @@
 // checkpoints after level 3 (a job killed mid-pyramid) and is continued with --restart, at -n 2
 // (then with the same bytes in every piece) and at -n 3, ends with the same volumes too (also under
 // a slant field, whose checkpoints hold sub-voxel positions); and the second run reads its
-// appearance space and similarity sets from the cache the first one wrote. The texsim runs are
+// appearance space and similarity sets from the cache the first one wrote. The scan kernels of
+// every instruction set the CPU runs give the same bytes. The texsim runs are
 // child jobs (support/run_command.hpp); this program itself runs on one rank.
+#include "core/float_distance_scan.hpp"
 #include "support/output_files.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
@@ -102,6 +104,24 @@ TEST_F(SolidSynthesisRuns, SameBytesWhenRanksSpanSeveralNodes) {
                           " --set solid_synthesis.similarity.cache_dir=" + cache.string());
     ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
     expect_same_volumes(dir_ / "n2", dir_ / run, false);
+  }
+}
+
+TEST_F(SolidSynthesisRuns, SameBytesWithTheScanKernelsOfEveryInstructionSet) {
+  // The float scan only filters: its candidates are decided in double, so the narrower kernels
+  // (those of CPUs without AVX-512 or AVX2, other float roundings) give the same sets and bytes.
+  for (const ScanIsa isa : supported_scan_isas()) {
+    if (isa == best_scan_isa())
+      continue;
+    const std::string name = scan_isa_name(isa);
+    const fs::path out = dir_ / ("isa_" + name);
+    const auto outcome = test::run_command(
+        test::texsim_under_mpirun(2, "-x TEXSIM_SCAN_ISA=" + name) + " " +
+        (test::source_dir() / "config/solid_synthesis/smoke.yaml").string() +
+        " --set output.dir=" + out.string() +
+        " --set solid_synthesis.similarity.cache_dir=" + (dir_ / ("cache_isa_" + name)).string());
+    ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+    expect_same_volumes(dir_ / "n2", out, true);
   }
 }
 

@@ -173,7 +173,7 @@ FeatureKdTree::search(const float* query, FeatureVisitor& visitor) const {
     if (here.first_child < 0) {
       scan.chunk_begin = here.chunk;
       scan.chunk_end = here.chunk + 1;
-      scan_float_distances_single(scan);
+      scan_float_distances(ScanKernel::kSingle, scan);
       continue;
     }
     const std::int32_t a = here.first_child, b = here.first_child + 1;

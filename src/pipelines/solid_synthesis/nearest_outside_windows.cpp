@@ -238,7 +238,7 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
                                 : block.no_penalty.data();
       scan.chunk_begin = row * chunks_per_row_;
       scan.chunk_end = scan.chunk_begin + chunks_per_row_;
-      scan_float_distances_masked(scan);
+      scan_float_distances(ScanKernel::kMasked, scan);
       ++row;
       continue;
     }
@@ -246,7 +246,7 @@ void NearestOutsideWindows::scan_block(Block& block, std::int64_t row_begin,
         next_masked != masked.end() ? std::min(*next_masked, row_end) : row_end;
     scan.chunk_begin = row * chunks_per_row_;
     scan.chunk_end = run_end * chunks_per_row_;
-    scan_float_distances(scan);
+    scan_float_distances(ScanKernel::kBlock, scan);
     row = run_end;
   }
 }

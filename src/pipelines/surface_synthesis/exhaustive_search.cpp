@@ -93,7 +93,7 @@ void ExhaustiveSearch::scan(QueryState& state, std::int64_t chunk_begin,
     hit->self->accept_hits(*hit->state, chunk, distances);
   };
   scan.context = &context;
-  scan_float_distances_single(scan);
+  scan_float_distances(ScanKernel::kSingle, scan);
 }
 
 void ExhaustiveSearch::nearest_batch(std::span<const double> queries,
