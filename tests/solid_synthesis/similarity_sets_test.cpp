@@ -242,7 +242,8 @@ TEST(SimilaritySets, TwinsAreTheVoxelsWithEqualFeaturesInIndexOrder) {
       {0.0f, 1.0f}, {1.0f, 0.0f}, {-0.0f, 1.0f}, {1.0f, 0.0f}, {0.0f, 1.5f}};
   for (std::size_t v = 0; v < 5; ++v)
     std::copy_n(values[v], 2, features.voxel(v).begin());
-  const FeatureTwins twins(features);
+  // Sorted on rank 0 and held once per node: every rank reads the same groups.
+  const FeatureTwins twins(features, par::NodeLayout::make(par::world()));
   const auto as_vector = [](std::span<const std::int32_t> s) {
     return std::vector<std::int32_t>(s.begin(), s.end());
   };

@@ -1,11 +1,14 @@
 #include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 
 #include "core/error.hpp"
+#include "par/collective.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -20,59 +23,122 @@ constexpr int kMaxDepth = 40;
 
 } // namespace
 
+/// The tree's arrays as one rank builds them.
+struct FeatureKdTree::Arrays {
+  int channels = 0;
+  int box_width = 0;
+  std::vector<float> lane_blocks;
+  std::vector<std::int32_t> voxels;
+  std::vector<Node> nodes;
+  std::vector<float> boxes;
+
+  Arrays() = default;
+  Arrays(const vol::ChannelGrid& features, int box_width_)
+      : channels(features.channels()), box_width(box_width_) {
+    const auto voxel_count = static_cast<std::int64_t>(features.voxel_count());
+    TEXSIM_VERIFY(channels >= 1 && channels <= kMaxChannels && voxel_count > 0 &&
+                      voxel_count <= std::numeric_limits<std::int32_t>::max(),
+                  "feature kd-tree: " << voxel_count << " voxels of " << channels
+                                      << " channels cannot be indexed");
+    const std::int64_t chunks = (voxel_count + kLanes - 1) / kLanes;
+    lane_blocks.assign(static_cast<std::size_t>(chunks * kLanes * channels),
+                       std::numeric_limits<float>::infinity()); // padding lanes never hit
+    voxels.assign(static_cast<std::size_t>(chunks * kLanes), -1);
+    std::vector<std::int32_t> order(static_cast<std::size_t>(voxel_count));
+    for (std::size_t v = 0; v < order.size(); ++v)
+      order[v] = static_cast<std::int32_t>(v);
+    nodes.reserve(static_cast<std::size_t>(2 * chunks));
+    nodes.emplace_back();
+    boxes.resize(static_cast<std::size_t>(2 * box_width)); // padding channels stay 0
+    build_node(0, features, order, 0, chunks, 0);
+  }
+
+  /// Fills node `node` with the voxels order[16 chunk_begin, min(16 chunk_end, voxel count)),
+  /// split at the median of their widest channel until one lane block is left.
+  void build_node(std::int32_t node, const vol::ChannelGrid& features,
+                  std::vector<std::int32_t>& order, std::int64_t chunk_begin,
+                  std::int64_t chunk_end, int depth);
+};
+
+/// The arrays held once per node.
+struct FeatureKdTree::SharedArrays {
+  par::NodeSharedArray<float> lane_blocks;
+  par::NodeSharedArray<std::int32_t> voxels;
+  par::NodeSharedArray<Node> nodes;
+  par::NodeSharedArray<float> boxes;
+};
+
 FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features)
     : channels_(features.channels()),
       box_width_((features.channels() + kGroup - 1) / kGroup * kGroup),
       float_bound_(features.channels()) {
-  const auto voxel_count = static_cast<std::int64_t>(features.voxel_count());
-  TEXSIM_VERIFY(channels_ >= 1 && channels_ <= kMaxChannels && voxel_count > 0 &&
-                    voxel_count <= std::numeric_limits<std::int32_t>::max(),
-                "feature kd-tree: " << voxel_count << " voxels of " << channels_
-                                    << " channels cannot be indexed");
-  const std::int64_t chunks = (voxel_count + kLanes - 1) / kLanes;
-  lane_blocks_.assign(static_cast<std::size_t>(chunks * kLanes * channels_),
-                      std::numeric_limits<float>::infinity()); // padding lanes never hit
-  voxels_.assign(static_cast<std::size_t>(chunks * kLanes), -1);
-  std::vector<std::int32_t> order(static_cast<std::size_t>(voxel_count));
-  for (std::size_t v = 0; v < order.size(); ++v)
-    order[v] = static_cast<std::int32_t>(v);
-  nodes_.reserve(static_cast<std::size_t>(2 * chunks));
-  nodes_.emplace_back();
-  boxes_.resize(static_cast<std::size_t>(2 * box_width_)); // padding channels stay 0
-  build_node(0, features, order, 0, chunks, 0);
+  auto arrays = std::make_shared<const Arrays>(features, box_width_);
+  lane_blocks_ = arrays->lane_blocks;
+  voxels_ = arrays->voxels;
+  nodes_ = arrays->nodes;
+  boxes_ = arrays->boxes;
+  storage_ = std::move(arrays);
 }
 
-void FeatureKdTree::build_node(std::int32_t node, const vol::ChannelGrid& features,
-                               std::vector<std::int32_t>& order, std::int64_t chunk_begin,
-                               std::int64_t chunk_end, int depth) {
+FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features,
+                             std::shared_ptr<const par::NodeLayout> layout)
+    : channels_(features.channels()),
+      box_width_((features.channels() + kGroup - 1) / kGroup * kGroup),
+      float_bound_(features.channels()) {
+  // Rank 0 builds; its vectors are freed once they are in the node windows. An error there (a
+  // grid the tree cannot index) reaches every rank.
+  std::optional<Arrays> built;
+  par::run_collectively(layout->world, [&] {
+    if (layout->world.rank == 0)
+      built.emplace(features, box_width_);
+  });
+  const auto share = [&](const auto& values) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    return par::NodeSharedArray<T>::from_root(layout, std::span<const T>(values));
+  };
+  const Arrays empty_arrays{};
+  const Arrays& source = built ? *built : empty_arrays;
+  auto shared = std::make_shared<SharedArrays>(SharedArrays{
+      share(source.lane_blocks), share(source.voxels), share(source.nodes), share(source.boxes)});
+  built.reset();
+  lane_blocks_ = shared->lane_blocks.values();
+  voxels_ = shared->voxels.values();
+  nodes_ = shared->nodes.values();
+  boxes_ = shared->boxes.values();
+  storage_ = std::move(shared);
+}
+
+void FeatureKdTree::Arrays::build_node(std::int32_t node, const vol::ChannelGrid& features,
+                                       std::vector<std::int32_t>& order, std::int64_t chunk_begin,
+                                       std::int64_t chunk_end, int depth) {
   TEXSIM_VERIFY(depth <= kMaxDepth, "feature kd-tree: deeper than " << kMaxDepth);
   const auto first = static_cast<std::size_t>(chunk_begin * kLanes);
   const auto last = std::min(static_cast<std::size_t>(chunk_end * kLanes), order.size());
-  float* low = boxes_.data() + static_cast<std::size_t>(node) * 2 * box_width_;
-  float* high = low + box_width_;
-  std::fill(low, low + channels_, std::numeric_limits<float>::infinity());
-  std::fill(high, high + channels_, -std::numeric_limits<float>::infinity());
+  float* low = boxes.data() + static_cast<std::size_t>(node) * 2 * box_width;
+  float* high = low + box_width;
+  std::fill(low, low + channels, std::numeric_limits<float>::infinity());
+  std::fill(high, high + channels, -std::numeric_limits<float>::infinity());
   for (std::size_t i = first; i < last; ++i) {
     const auto f = features.voxel(static_cast<std::size_t>(order[i]));
-    for (int c = 0; c < channels_; ++c) {
+    for (int c = 0; c < channels; ++c) {
       low[c] = std::min(low[c], f[static_cast<std::size_t>(c)]);
       high[c] = std::max(high[c], f[static_cast<std::size_t>(c)]);
     }
   }
   if (chunk_end - chunk_begin == 1) {
-    nodes_[static_cast<std::size_t>(node)].chunk = static_cast<std::int32_t>(chunk_begin);
-    float* block = lane_blocks_.data() + static_cast<std::size_t>(chunk_begin) * kLanes * channels_;
+    nodes[static_cast<std::size_t>(node)].chunk = static_cast<std::int32_t>(chunk_begin);
+    float* block = lane_blocks.data() + static_cast<std::size_t>(chunk_begin) * kLanes * channels;
     for (std::size_t i = first; i < last; ++i) {
       const auto lane = i - first;
-      voxels_[first + lane] = order[i];
+      voxels[first + lane] = order[i];
       const auto f = features.voxel(static_cast<std::size_t>(order[i]));
-      for (int c = 0; c < channels_; ++c)
+      for (int c = 0; c < channels; ++c)
         block[c * kLanes + lane] = f[static_cast<std::size_t>(c)];
     }
     return;
   }
   int axis = 0;
-  for (int c = 1; c < channels_; ++c)
+  for (int c = 1; c < channels; ++c)
     if (high[c] - low[c] > high[axis] - low[axis])
       axis = c;
   // The voxel index breaks ties, so the split (and the whole tree) is the same on every rank.
@@ -85,11 +151,11 @@ void FeatureKdTree::build_node(std::int32_t node, const vol::ChannelGrid& featur
   std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(first),
                    order.begin() + static_cast<std::ptrdiff_t>(middle_chunk * kLanes),
                    order.begin() + static_cast<std::ptrdiff_t>(last), by_axis);
-  const auto child = static_cast<std::int32_t>(nodes_.size());
-  nodes_.emplace_back();
-  nodes_.emplace_back();
-  boxes_.resize(nodes_.size() * 2 * static_cast<std::size_t>(box_width_));
-  nodes_[static_cast<std::size_t>(node)].first_child = child;
+  const auto child = static_cast<std::int32_t>(nodes.size());
+  nodes.emplace_back();
+  nodes.emplace_back();
+  boxes.resize(nodes.size() * 2 * static_cast<std::size_t>(box_width));
+  nodes[static_cast<std::size_t>(node)].first_child = child;
   build_node(child, features, order, chunk_begin, middle_chunk, depth + 1);
   build_node(child + 1, features, order, middle_chunk, chunk_end, depth + 1);
 }

@@ -15,10 +15,13 @@
 /// evaluated about 1,500 points per query at about 18 ns each: 5.6 s for the similarity sets at
 /// -n 2, where this tree takes 1.5 s (scripts/bench similarity-set).
 #include "core/float_distance_scan.hpp"
+#include "par/node_shared_array.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -49,35 +52,37 @@ class FeatureKdTree {
 public:
   static constexpr int kMaxChannels = 64; ///< as many as the appearance space allows
   /// Builds the tree over every voxel of `features` (finite values no larger than
-  /// FloatDistanceBound::largest_safe_value()).
+  /// FloatDistanceBound::largest_safe_value()), held by this rank alone.
   explicit FeatureKdTree(const vol::ChannelGrid& features);
+  /// The same tree, built by layout->world's rank 0 and held once per node (about 40 bytes a
+  /// voxel for 8 channels, which every rank would otherwise hold). Collective over layout->world.
+  FeatureKdTree(const vol::ChannelGrid& features, std::shared_ptr<const par::NodeLayout> layout);
 
   /// Visits every voxel whose exact squared distance to `query` (channels() floats of the grid's
   /// kind) is at most visitor.radius() (re-read after each visit), and some farther ones; each
   /// voxel at most once. Thread-safe.
   void search(const float* query, FeatureVisitor& visitor) const;
 
-  /// The voxels in leaf order: queries taken in this order reuse the same nodes from cache.
-  const std::vector<std::int32_t>& leaf_order() const { return voxels_; }
+  /// The voxels in leaf order (-1 for padding): queries taken in this order reuse the same nodes
+  /// from cache.
+  std::span<const std::int32_t> leaf_order() const { return voxels_; }
 
 private:
   struct Node {
     std::int32_t first_child = -1; ///< the second child follows it; -1: a leaf
     std::int32_t chunk = -1;       ///< a leaf's lane block
   };
-  /// Fills node `node` with the voxels order[16 chunk_begin, min(16 chunk_end, voxel count)),
-  /// split at the median of their widest channel until one lane block is left.
-  void build_node(std::int32_t node, const vol::ChannelGrid& features,
-                  std::vector<std::int32_t>& order, std::int64_t chunk_begin,
-                  std::int64_t chunk_end, int depth);
+  struct Arrays;
+  struct SharedArrays;
 
   int channels_ = 0;
   int box_width_ = 0; ///< channels rounded up to whole SIMD groups
   FloatDistanceBound float_bound_;
-  std::vector<float> lane_blocks_;   ///< per leaf: channels x 16 lanes, padding lanes +inf
-  std::vector<std::int32_t> voxels_; ///< per leaf: 16 voxel ids (-1 for padding)
-  std::vector<Node> nodes_;
-  std::vector<float> boxes_; ///< per node: box_width_ lows, then box_width_ highs (padding 0)
+  std::shared_ptr<const void> storage_;  ///< the arrays below point into it
+  std::span<const float> lane_blocks_;   ///< per leaf: channels x 16 lanes, padding lanes +inf
+  std::span<const std::int32_t> voxels_; ///< per leaf: 16 voxel ids (-1 for padding)
+  std::span<const Node> nodes_;
+  std::span<const float> boxes_; ///< per node: box_width_ lows, then box_width_ highs (padding 0)
 };
 
 } // namespace texsim::pipelines::solid_synthesis

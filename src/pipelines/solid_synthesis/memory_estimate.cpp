@@ -9,9 +9,19 @@ namespace texsim::pipelines::solid_synthesis {
 namespace {
 
 /// Bytes per exemplar voxel that the busiest rank holds: rank 0 loads the exemplar (the file's
-/// grid and its colours, before they move to the node windows); any rank, a share of a level
-/// being blurred or projected.
-constexpr std::uint64_t kRankBytesPerVoxel = 24;
+/// grid and its colours, before they move to the node windows) and builds the finest level's
+/// kd-tree (lane blocks, boxes, leaf voxels, the build's order: about 5 bytes a channel and
+/// 9 bytes) before it moves to the node windows; any rank, a share of a level being blurred or
+/// projected.
+std::uint64_t rank_bytes_per_voxel(const SolidSynthesisSettings& settings) {
+  return std::max<std::uint64_t>(24, 5 * std::uint64_t(settings.appearance.dimensions) + 9);
+}
+
+/// Bytes per exemplar voxel of the finest level held once per node while its similarity sets
+/// are built: the kd-tree (as above, without the build's order) and the feature twins.
+std::uint64_t search_bytes_per_voxel(const SolidSynthesisSettings& settings) {
+  return 5 * std::uint64_t(settings.appearance.dimensions) + 5 + 12;
+}
 
 /// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray): the
 /// stack's colours, `dimensions` float features, k similarity candidates, and room for the copies
@@ -43,10 +53,11 @@ MemoryEstimate exemplar_estimate(const SolidSynthesisSettings& settings) {
          voxels)
     ++octaves;
   const std::uint64_t level_voxels = saturating_multiply(voxels, std::uint64_t(octaves + 1));
-  return {saturating_multiply(voxels, kRankBytesPerVoxel), key,
+  return {saturating_multiply(voxels, rank_bytes_per_voxel(settings)), key,
           "exemplar of " + shape + " x " + std::to_string(octaves + 1) +
-              " stack levels, its features and similarity sets held once per node",
-          saturating_multiply(level_voxels, node_bytes_per_voxel(settings))};
+              " stack levels, its features, similarity sets and search tree held once per node",
+          saturating_add(saturating_multiply(level_voxels, node_bytes_per_voxel(settings)),
+                         saturating_multiply(voxels, search_bytes_per_voxel(settings)))};
 }
 
 MemoryEstimate synthesis_estimate(const SolidSynthesisSettings& settings, int ranks) {

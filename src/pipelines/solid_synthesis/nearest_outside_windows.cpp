@@ -52,7 +52,8 @@ ShortlistSearch automatic_search(const vol::ChannelGrid& features) {
 
 NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
                                              const ExclusionWindows& windows, int witnesses,
-                                             ShortlistSearch search)
+                                             ShortlistSearch search,
+                                             std::shared_ptr<const par::NodeLayout> layout)
     : features_(features), windows_(windows), witnesses_(witnesses), channels_(features.channels()),
       chunks_per_row_((features.dims().nx + kLanes - 1) / kLanes), float_bound_(channels_) {
   TEXSIM_VERIFY(witnesses_ >= 1 && witnesses_ <= kMaxWitnesses,
@@ -67,7 +68,7 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
   if (search == ShortlistSearch::automatic)
     search = automatic_search(features);
   if (search == ShortlistSearch::tree) {
-    tree_ = std::make_unique<FeatureKdTree>(features);
+    tree_ = std::make_unique<FeatureKdTree>(features, std::move(layout));
     return;
   }
 

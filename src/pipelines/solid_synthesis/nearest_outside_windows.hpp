@@ -16,6 +16,7 @@
 /// opens, one of them stays better than x. The threshold carries a bound on the float rounding, so
 /// a voxel the fast pass skips is always provably droppable.
 #include "core/float_distance_scan.hpp"
+#include "par/node_shared_array.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <array>
@@ -88,8 +89,11 @@ class NearestOutsideWindows {
 public:
   /// `witnesses` = k - 1 >= 1: how many pairwise far-apart better voxels drop a voxel. Features
   /// must be finite and small enough that float squared distances cannot overflow.
+  /// The kd-tree is built on layout->world's rank 0 and held once per node. Collective over
+  /// layout->world.
   NearestOutsideWindows(const vol::ChannelGrid& features, const ExclusionWindows& windows,
-                        int witnesses, ShortlistSearch search = ShortlistSearch::automatic);
+                        int witnesses, ShortlistSearch search,
+                        std::shared_ptr<const par::NodeLayout> layout);
   ~NearestOutsideWindows();
 
   /// For each query voxel q: the voxels outside q's window that may be among its k - 1 greedy

@@ -75,9 +75,12 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
   const ExclusionWindows windows{features.dims(), options.window / 2, options.periodic};
 
   // Queries in the search's cheapest order; this rank takes a contiguous range of positions.
+  // The tree and the twins are built on rank 0 and held once per node.
+  const auto layout = par::NodeLayout::make(comm);
   std::unique_ptr<NearestOutsideWindows> scanner;
   if (k > 1)
-    scanner = std::make_unique<NearestOutsideWindows>(features, windows, k - 1, options.search);
+    scanner =
+        std::make_unique<NearestOutsideWindows>(features, windows, k - 1, options.search, layout);
   std::vector<std::int32_t> order;
   if (scanner) {
     order = scanner->query_order();
@@ -96,7 +99,7 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
     for (std::int32_t i = first; i < last; ++i)
       local[static_cast<std::size_t>(i - first)] = order[static_cast<std::size_t>(i)];
   } else {
-    const FeatureTwins twins(features);
+    const FeatureTwins twins(features, layout);
     const std::int32_t tasks = (last - first + kQueriesPerTask - 1) / kQueriesPerTask;
     Progress progress(comm.size > 1 ? "similarity sets (rank 0's share)" : "similarity sets",
                       last - first, "voxels");
@@ -135,7 +138,6 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
 
   // The ranks' ranges in query order, then each node's ranks put a share of them in voxel order
   // (share [begin, end) of the elements: the queries begin / k to end / k).
-  const auto layout = par::NodeLayout::make(comm);
   const auto by_position = par::NodeSharedArray<std::int32_t>::concatenate(layout, local);
   const auto kk = static_cast<std::size_t>(k);
   SimilaritySets sets{features.dims(), k,

@@ -39,8 +39,9 @@ struct SimilaritySets {
 /// last candidate repeats. Exact: the same sets as a brute-force search, for any rank and thread
 /// count. Collective over `comm`: ranks split the voxels into contiguous ranges (OpenMP threads
 /// share a rank's range) and every rank returns the full sets (node-shared). A query with k - 1
-/// identical-feature twins outside the windows (feature_twins; every rank sorts all voxels once,
-/// O(N log N)) takes them without a search. The scan costs about 2 d N^2 flops; the tree visits
+/// identical-feature twins outside the windows (feature_twins; rank 0 sorts all voxels once,
+/// O(N log N), and the groups are held once per node, like the kd-tree) takes them without a
+/// search. The scan costs about 2 d N^2 flops; the tree visits
 /// only the voxels within each query's witness distance.
 SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGrid& features,
                                      const SimilarityOptions& options);
