@@ -77,15 +77,23 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
   const std::size_t chunk_floats = static_cast<std::size_t>(channels_) * kLanes;
   rows_per_tile_ = static_cast<int>(
       std::max<std::size_t>(1, kTileBytes / (chunk_floats * sizeof(float) * chunks_per_row_)));
-  lane_blocks_.assign(rows * chunks_per_row_ * chunk_floats,
-                      std::numeric_limits<float>::infinity()); // padding lanes never hit
-  for (std::size_t row = 0; row < rows; ++row)
-    for (int x = 0; x < dims.nx; ++x) {
-      const auto f = features.voxel(row * static_cast<std::size_t>(dims.nx) + x);
-      float* chunk = lane_blocks_.data() + (row * chunks_per_row_ + x / kLanes) * chunk_floats;
-      for (int c = 0; c < channels_; ++c)
-        chunk[c * kLanes + x % kLanes] = f[static_cast<std::size_t>(c)];
-    }
+  // Held once per node; each of the node's ranks fills a share of the rows.
+  const std::size_t row_floats = chunks_per_row_ * chunk_floats;
+  lane_blocks_ = par::NodeSharedArray<float>::filled(
+      std::move(layout), rows * row_floats,
+      [&](std::span<float> all, std::size_t begin, std::size_t end) {
+        std::fill(all.begin() + static_cast<std::ptrdiff_t>(begin),
+                  all.begin() + static_cast<std::ptrdiff_t>(end),
+                  std::numeric_limits<float>::infinity()); // padding lanes never hit
+        for (std::size_t row = begin / row_floats; row < end / row_floats; ++row)
+          for (int x = 0; x < dims.nx; ++x) {
+            const auto f = features.voxel(row * static_cast<std::size_t>(dims.nx) + x);
+            float* chunk = all.data() + row * row_floats + (x / kLanes) * chunk_floats;
+            for (int c = 0; c < channels_; ++c)
+              chunk[c * kLanes + x % kLanes] = f[static_cast<std::size_t>(c)];
+          }
+      },
+      row_floats);
 }
 
 NearestOutsideWindows::~NearestOutsideWindows() = default;

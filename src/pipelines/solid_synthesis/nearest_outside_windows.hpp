@@ -84,13 +84,14 @@ ShortlistSearch automatic_search(const vol::ChannelGrid& features);
 class FeatureKdTree;
 
 /// Shortlists of candidate voxels for query voxels, over one exemplar. Construction builds the
-/// kd-tree or copies the features into lane blocks; shortlists() is thread-safe.
+/// kd-tree or copies the features into lane blocks (both node-shared); shortlists() is
+/// thread-safe.
 class NearestOutsideWindows {
 public:
   /// `witnesses` = k - 1 >= 1: how many pairwise far-apart better voxels drop a voxel. Features
   /// must be finite and small enough that float squared distances cannot overflow.
-  /// The kd-tree is built on layout->world's rank 0 and held once per node. Collective over
-  /// layout->world.
+  /// The kd-tree (built on layout->world's rank 0) or the scan's lane blocks (filled by the
+  /// node's ranks in shares) are held once per node. Collective over layout->world.
   NearestOutsideWindows(const vol::ChannelGrid& features, const ExclusionWindows& windows,
                         int witnesses, ShortlistSearch search,
                         std::shared_ptr<const par::NodeLayout> layout);
@@ -132,7 +133,8 @@ private:
   int chunks_per_row_;
   int rows_per_tile_;
   FloatDistanceBound float_bound_;
-  std::vector<float> lane_blocks_; ///< scan: per 16-voxel chunk of a row, channel-major, 16 lanes
+  /// scan: per 16-voxel chunk of a row, channel-major, 16 lanes; held once per node
+  par::NodeSharedArray<float> lane_blocks_;
   std::unique_ptr<FeatureKdTree> tree_; ///< tree search
 };
 
