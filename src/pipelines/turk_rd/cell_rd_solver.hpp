@@ -98,10 +98,12 @@ private:
   std::vector<double> rates_;        ///< D_s of each species
   std::vector<double> lower_bounds_; ///< per species
   std::vector<double> weights_;      ///< (abar / A_i) f_ij w_ij, parallel to the stencil CSR
-  /// The stencil by groups of consecutive cells, their lists side by side (build_lane_groups).
+  /// The stencil by groups of a block's cells of like degree, their lists side by side
+  /// (build_lane_groups); group_cells_ holds each group's kLanes cells.
   std::vector<std::int64_t> group_offsets_;
   std::vector<std::int32_t> group_widths_;
-  std::vector<std::int32_t> group_index_;
+  std::vector<std::int32_t> group_cells_;
+  std::vector<std::int32_t> group_first_value_; ///< neighbour index x species
   std::vector<double> group_weight_;
   std::vector<std::int64_t> ids_; ///< owned cell ids (random substrate keys)
   std::vector<double> xyz_;       ///< owned cell centres
