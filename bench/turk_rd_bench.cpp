@@ -185,13 +185,13 @@ CellData cell_data(const geom::SurfaceCells& cells) {
   return data;
 }
 
-/// The Turing step fused by hand, as a reference for what the data layout allows: the solver's
-/// weights (abar / A_i) f_ij w_ij with f = 1, both species of a cell together in a GhostedVector
-/// with the same ghost update, the reaction written out with the substrate beta read from an array
-/// instead of drawn every step, the same operation order as the solver so the values match bit for
-/// bit. With `morton_order` the owned cells are stored along a Morton curve of their centres
-/// instead of by id (each row still sums its neighbours in id order, so the values do not change):
-/// the stencil's neighbours then lie close in memory. Not a replacement for the solver: a
+/// The Turing step fused by hand, row by row in CSR order, as a reference in the same run: the
+/// solver's weights (abar / A_i) f_ij w_ij with f = 1, both species of a cell together in a
+/// GhostedVector with the same ghost update, the reaction written out with the substrate beta read
+/// from an array instead of drawn every step, the same operation order as the solver so the values
+/// match bit for bit. With `morton_order` the owned cells are stored along a Morton curve of their
+/// centres instead of by id (each row still sums its neighbours in id order, so the values do not
+/// change): the stencil's neighbours then lie close in memory. Not a replacement for the solver: a
 /// measuring stick.
 class FusedTuringStep {
 public:
