@@ -18,9 +18,10 @@ std::uint64_t rank_bytes_per_voxel(const SolidSynthesisSettings& settings) {
 }
 
 /// Bytes per exemplar voxel of the finest level held once per node while its similarity sets
-/// are built: the kd-tree (as above, without the build's order) and the feature twins.
+/// are built: the kd-tree (as above, without the build's order), the feature twins and the
+/// queries' order (the tree's leaves without padding).
 std::uint64_t search_bytes_per_voxel(const SolidSynthesisSettings& settings) {
-  return 5 * std::uint64_t(settings.appearance.dimensions) + 5 + 12;
+  return 5 * std::uint64_t(settings.appearance.dimensions) + 5 + 12 + 4;
 }
 
 /// Bytes per exemplar voxel and stack level held once per node (par::NodeSharedArray): the

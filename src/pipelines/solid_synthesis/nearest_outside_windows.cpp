@@ -68,7 +68,15 @@ NearestOutsideWindows::NearestOutsideWindows(const vol::ChannelGrid& features,
   if (search == ShortlistSearch::automatic)
     search = automatic_search(features);
   if (search == ShortlistSearch::tree) {
-    tree_ = std::make_unique<FeatureKdTree>(features, std::move(layout));
+    tree_ = std::make_unique<FeatureKdTree>(features, layout);
+    std::vector<std::int32_t> order; // rank 0's, until the node windows hold it
+    if (layout->world.rank == 0) {
+      order.reserve(features.voxel_count());
+      for (const std::int32_t voxel : tree_->leaf_order())
+        if (voxel >= 0) // not a padding lane
+          order.push_back(voxel);
+    }
+    tree_order_ = par::NodeSharedArray<std::int32_t>::from_root(std::move(layout), order);
     return;
   }
 
@@ -282,21 +290,6 @@ void NearestOutsideWindows::search_tree(QueryState& query) const {
   const float* query_features = features_.voxel(static_cast<std::size_t>(query.voxel)).data();
   TreeVisitor visitor(*this, query, query_features);
   tree_->search(query_features, visitor);
-}
-
-std::vector<std::int32_t> NearestOutsideWindows::query_order() const {
-  if (tree_) {
-    std::vector<std::int32_t> order;
-    order.reserve(features_.voxel_count());
-    for (const std::int32_t voxel : tree_->leaf_order())
-      if (voxel >= 0) // not a padding lane
-        order.push_back(voxel);
-    return order;
-  }
-  std::vector<std::int32_t> order(features_.voxel_count());
-  for (std::size_t v = 0; v < order.size(); ++v)
-    order[v] = static_cast<std::int32_t>(v);
-  return order;
 }
 
 std::vector<std::vector<RankedVoxel>>

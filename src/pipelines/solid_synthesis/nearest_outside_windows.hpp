@@ -103,10 +103,12 @@ public:
   std::vector<std::vector<RankedVoxel>>
   shortlists(std::span<const std::int32_t> query_voxels) const;
 
-  /// Every voxel once, in the order queries are cheapest in: the tree's leaf order (neighbours in
-  /// feature space, so consecutive searches find the same nodes in cache), or the grid's for the
-  /// scan (neighbours in the grid share the window rows).
-  std::vector<std::int32_t> query_order() const;
+  /// The voxel at `position` of the order queries are cheapest in, which visits every voxel once:
+  /// the tree's leaf order (neighbours in feature space, so consecutive searches find the same
+  /// nodes in cache), or the grid's for the scan (neighbours in the grid share the window rows).
+  std::int32_t query_at(std::size_t position) const {
+    return tree_ ? tree_order_[position] : static_cast<std::int32_t>(position);
+  }
 
 private:
   struct QueryState;
@@ -136,6 +138,8 @@ private:
   /// scan: per 16-voxel chunk of a row, channel-major, 16 lanes; held once per node
   par::NodeSharedArray<float> lane_blocks_;
   std::unique_ptr<FeatureKdTree> tree_; ///< tree search
+  /// The tree's leaf order without its padding lanes, held once per node.
+  par::NodeSharedArray<std::int32_t> tree_order_;
 };
 
 } // namespace texsim::pipelines::solid_synthesis

@@ -13,7 +13,6 @@
 #include <atomic>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <ranges>
 #include <span>
 #include <vector>
@@ -81,13 +80,9 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
   if (k > 1)
     scanner =
         std::make_unique<NearestOutsideWindows>(features, windows, k - 1, options.search, layout);
-  std::vector<std::int32_t> order;
-  if (scanner) {
-    order = scanner->query_order();
-  } else {
-    order.resize(voxels);
-    std::iota(order.begin(), order.end(), 0);
-  }
+  const auto query_at = [&](std::size_t position) {
+    return scanner ? scanner->query_at(position) : static_cast<std::int32_t>(position);
+  };
   const auto range_start = [&](int rank) {
     return static_cast<std::int32_t>(static_cast<std::int64_t>(n) * rank / comm.size);
   };
@@ -97,7 +92,7 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
 
   if (!scanner) {
     for (std::int32_t i = first; i < last; ++i)
-      local[static_cast<std::size_t>(i - first)] = order[static_cast<std::size_t>(i)];
+      local[static_cast<std::size_t>(i - first)] = query_at(static_cast<std::size_t>(i));
   } else {
     const FeatureTwins twins(features, layout);
     const std::int32_t tasks = (last - first + kQueriesPerTask - 1) / kQueriesPerTask;
@@ -112,7 +107,7 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
       // are searched.
       std::vector<std::int32_t> searched, searched_at;
       for (std::int32_t i = begin; i < end; ++i) {
-        const std::int32_t query = order[static_cast<std::size_t>(i)];
+        const std::int32_t query = query_at(static_cast<std::size_t>(i));
         std::int32_t* out = local.data() + static_cast<std::size_t>(i - first) * k;
         if (select_candidates(query, twins.of(query), windows, k, out) < k) {
           searched.push_back(query);
@@ -146,7 +141,8 @@ SimilaritySets build_similarity_sets(const par::Comm& comm, const vol::ChannelGr
                           [&](std::span<std::int32_t> all, std::size_t begin, std::size_t end) {
                             for (std::size_t i = begin / kk; i < end / kk; ++i)
                               std::copy_n(by_position.begin() + i * kk, k,
-                                          all.begin() + static_cast<std::ptrdiff_t>(order[i]) * k);
+                                          all.begin() +
+                                              static_cast<std::ptrdiff_t>(query_at(i)) * k);
                           })};
   return sets;
 }
