@@ -462,8 +462,8 @@ add_taps(float* acc, const float* row, const float* weights, int taps, int spaci
 /// Appearance vectors of the box's voxels in x rows [rows.first, rows.second) (row y + ny z of the
 /// box), written into `features` (those rows only, row rows.first first), one x row at a time: (x -
 /// mean) B is accumulated from the centred level's rows, padded along x by the taps' reach (wrapped
-/// or clamped) so every tap reads them contiguously. Each vector is summed in the same order on any
-/// thread and whichever rows are asked for.
+/// or clamped) so every tap reads them contiguously; only the planes the asked rows' taps read are
+/// copied. Each vector is summed in the same order on any thread and whichever rows are asked for.
 void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, bool periodic,
                    const std::vector<float>& centre, const AppearanceLevel& appearance,
                    std::pair<std::ptrdiff_t, std::ptrdiff_t> rows, std::span<float> features) {
@@ -497,16 +497,35 @@ void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, b
   const auto coordinate = [&](std::size_t axis, int q) {
     return periodic ? vol::ChannelGrid::wrap(q, n[axis]) : vol::ChannelGrid::clamp(q, n[axis]);
   };
-  // padded[c][(z * ny + y) * width + e] = level(x(e), y, z)[c] - centre[c], x(e) = lo - reach + e.
+  // Only the z-planes that the taps of the asked rows read are padded (plane_slot[z], -1 for
+  // the others): a rank's share of a level, not the whole level.
+  // padded[c][(slot(z) * ny + y) * width + e] = level(x(e), y, z)[c] - centre[c], x(e) = lo -
+  // reach + e.
+  std::vector<int> plane_slot(static_cast<std::size_t>(n[2]), -1);
+  std::vector<int> slot_plane;
+  if (rows.second > rows.first) {
+    const int z_first = box.lo[2] + static_cast<int>(rows.first / box.size[1]);
+    const int z_last = box.lo[2] + static_cast<int>((rows.second - 1) / box.size[1]);
+    for (int z = z_first; z <= z_last; ++z)
+      for (int tz = 0; tz < window; ++tz)
+        plane_slot[static_cast<std::size_t>(coordinate(2, z + (tz - window / 2) * spacing))] = 0;
+    for (int z = 0; z < n[2]; ++z)
+      if (plane_slot[static_cast<std::size_t>(z)] == 0) {
+        plane_slot[static_cast<std::size_t>(z)] = static_cast<int>(slot_plane.size());
+        slot_plane.push_back(z);
+      } else {
+        plane_slot[static_cast<std::size_t>(z)] = -1;
+      }
+  }
   const auto length = static_cast<std::size_t>(box.size[0]);
   const std::size_t width = length + 2 * static_cast<std::size_t>(reach);
-  const auto level_rows = static_cast<std::ptrdiff_t>(n[1]) * n[2];
+  const auto padded_rows = static_cast<std::ptrdiff_t>(slot_plane.size()) * n[1];
   std::vector<std::vector<float>> padded(
-      c_count, std::vector<float>(static_cast<std::size_t>(level_rows) * width));
+      c_count, std::vector<float>(static_cast<std::size_t>(padded_rows) * width));
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t row = 0; row < level_rows; ++row) {
-    const std::size_t row_start =
-        level.index(0, static_cast<int>(row % n[1]), static_cast<int>(row / n[1]));
+  for (std::ptrdiff_t row = 0; row < padded_rows; ++row) {
+    const std::size_t row_start = level.index(0, static_cast<int>(row % n[1]),
+                                              slot_plane[static_cast<std::size_t>(row / n[1])]);
     for (std::size_t e = 0; e < width; ++e) {
       const auto x =
           static_cast<std::size_t>(coordinate(0, box.lo[0] - reach + static_cast<int>(e)));
@@ -526,7 +545,8 @@ void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, b
       const int z = box.lo[2] + static_cast<int>(row / box.size[1]);
       std::fill(acc.begin(), acc.end(), 0.0f);
       for (int tz = 0; tz < window; ++tz) {
-        const int sz = coordinate(2, z + (tz - window / 2) * spacing);
+        const int sz =
+            plane_slot[static_cast<std::size_t>(coordinate(2, z + (tz - window / 2) * spacing))];
         for (int ty = 0; ty < window; ++ty) {
           const int sy = coordinate(1, y + (ty - window / 2) * spacing);
           const std::size_t source_row =
