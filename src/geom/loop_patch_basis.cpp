@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numbers>
 
@@ -29,9 +30,46 @@ int valence(const LocalPatch& patch, int v) {
   }));
 }
 
+/// The vertices sharing a triangle with v, increasing.
+std::vector<int> neighbours(const LocalPatch& patch, int v) {
+  std::vector<int> result;
+  for (const auto& tri : patch.triangles)
+    for (int k = 0; k < 3; ++k)
+      if (tri[k] == v) {
+        result.push_back(tri[(k + 1) % 3]);
+        result.push_back(tri[(k + 2) % 3]);
+      }
+  std::sort(result.begin(), result.end());
+  result.erase(std::unique(result.begin(), result.end()), result.end());
+  return result;
+}
+
+/// A corner's star is whole in the patch, so an edge at it with one triangle lies on the surface's
+/// boundary, and its fan is open: one more neighbour than triangles.
+bool on_boundary(const LocalPatch& patch, int v) {
+  return int(neighbours(patch, v).size()) != valence(patch, v);
+}
+
+/// The two neighbours of boundary corner v along the boundary (the edges with one triangle).
+std::array<int, 2> boundary_neighbours(const LocalPatch& patch, int v) {
+  std::vector<int> found;
+  for (const int w : neighbours(patch, v)) {
+    const auto shared = std::count_if(patch.triangles.begin(), patch.triangles.end(), [&](auto& t) {
+      return std::count(t.begin(), t.end(), v) && std::count(t.begin(), t.end(), w);
+    });
+    if (shared == 1)
+      found.push_back(w);
+  }
+  TEXSIM_VERIFY(found.size() == 2,
+                "Loop basis: a boundary corner has " << found.size() << " boundary edges");
+  return {found[0], found[1]};
+}
+
+/// Three interior corners of valence 6: one box spline (boundary controls beyond the corners do
+/// not matter, since the masks that refine the patch read only the corners' stars).
 bool is_regular_patch(const LocalPatch& patch) {
   return std::all_of(patch.corners.begin(), patch.corners.end(),
-                     [&](int v) { return valence(patch, v) == 6; });
+                     [&](int v) { return valence(patch, v) == 6 && !on_boundary(patch, v); });
 }
 
 /// The third vertex of the triangle holding the directed edge y -> x, i.e. the vertex across the
@@ -66,20 +104,6 @@ std::array<int, 12> regular_lattice(const LocalPatch& patch) {
           across(patch, c, left)};  // (-1, 2)
 }
 
-/// The vertices sharing a triangle with v, increasing.
-std::vector<int> neighbours(const LocalPatch& patch, int v) {
-  std::vector<int> result;
-  for (const auto& tri : patch.triangles)
-    for (int k = 0; k < 3; ++k)
-      if (tri[k] == v) {
-        result.push_back(tri[(k + 1) % 3]);
-        result.push_back(tri[(k + 2) % 3]);
-      }
-  std::sort(result.begin(), result.end());
-  result.erase(std::unique(result.begin(), result.end()), result.end());
-  return result;
-}
-
 /// One round of Loop subdivision of the patch, kept to the stars of the corners of sub-triangle
 /// `child` (0, 1, 2: the one at corner a, b, c; 3: the middle one). The new values needed there
 /// are those of the three corners and of the edges touching them, whose masks read only the
@@ -106,12 +130,19 @@ LocalPatch refine(const LocalPatch& patch, int child) {
     return std::find(patch.corners.begin(), patch.corners.end(), v) != patch.corners.end();
   };
   for (const int v : patch.corners) {
+    known[std::size_t(v)] = 1;
+    if (on_boundary(patch, v)) {
+      // The boundary is a cubic B-spline curve of its vertices: (b1 + 6 v + b2) / 8.
+      const auto [b1, b2] = boundary_neighbours(patch, v);
+      weights.row(v) =
+          0.75 * patch.weights.row(v) + 0.125 * (patch.weights.row(b1) + patch.weights.row(b2));
+      continue;
+    }
     const auto ring = neighbours(patch, v);
     const double beta = loop_beta(int(ring.size()));
     weights.row(v) = (1.0 - double(ring.size()) * beta) * patch.weights.row(v);
     for (const int w : ring)
       weights.row(v) += beta * patch.weights.row(w);
-    known[std::size_t(v)] = 1;
   }
   for (const auto& [edge, index] : edge_vertex) {
     const auto [i, j] = edge;
@@ -123,11 +154,15 @@ LocalPatch refine(const LocalPatch& patch, int child) {
         if (tri[k] != i && tri[k] != j && std::count(tri.begin(), tri.end(), i) &&
             std::count(tri.begin(), tri.end(), j))
           opposite.push_back(tri[k]);
-    TEXSIM_VERIFY(opposite.size() == 2,
+    TEXSIM_VERIFY(opposite.size() == 1 || opposite.size() == 2,
                   "Loop basis: an edge at a corner has " << opposite.size() << " triangles");
+    known[std::size_t(index)] = 1;
+    if (opposite.size() == 1) { // a boundary edge: its midpoint
+      weights.row(index) = 0.5 * (patch.weights.row(i) + patch.weights.row(j));
+      continue;
+    }
     weights.row(index) = 0.375 * (patch.weights.row(i) + patch.weights.row(j)) +
                          0.125 * (patch.weights.row(opposite[0]) + patch.weights.row(opposite[1]));
-    known[std::size_t(index)] = 1;
   }
 
   const auto [a, b, c] = patch.corners;
@@ -201,38 +236,49 @@ double loop_beta(int valence) {
 LoopPatchBasis::LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology)
     : mesh_(mesh), topology_(topology) {}
 
-bool LoopPatchBasis::closed_fan(std::int32_t v) const {
-  // Around a closed fan every triangle's edge leaving v is another one's edge entering v, and
-  // following them visits every triangle once.
+LoopPatchBasis::Fan LoopPatchBasis::fan(std::int32_t v) const {
+  // Around a fan every triangle's edge leaving v is the next one's edge entering v: following
+  // them from the one edge no triangle enters by (an open fan) or from any edge (a closed one)
+  // must visit every triangle once.
   const auto star = topology_.vertex_triangles().row(v);
-  if (star.size() < 3)
-    return false;
+  if (star.empty())
+    return Fan::kBroken;
   std::map<std::int32_t, std::int32_t> entering_from; // previous vertex -> next vertex
   for (const std::int32_t t : star) {
     const auto& tri = mesh_.triangles[t];
     const int k = int(std::find(tri.begin(), tri.end(), v) - tri.begin());
     if (!entering_from.emplace(tri[(k + 2) % 3], tri[(k + 1) % 3]).second)
-      return false;
+      return Fan::kBroken;
   }
-  std::int32_t w = entering_from.begin()->first;
+  std::vector<std::int32_t> starts;
+  for (const auto& [previous, next] : entering_from)
+    if (std::none_of(entering_from.begin(), entering_from.end(),
+                     [&](const auto& other) { return other.second == previous; }))
+      starts.push_back(previous);
+  if (starts.size() > 1 || (starts.empty() && star.size() < 3))
+    return Fan::kBroken;
+  std::int32_t w = starts.empty() ? entering_from.begin()->first : starts.front();
   for (std::size_t step = 0; step < star.size(); ++step) {
     const auto next = entering_from.find(w);
     if (next == entering_from.end())
-      return false;
+      return Fan::kBroken;
     w = next->second;
   }
-  return w == entering_from.begin()->first;
+  if (starts.empty())
+    return w == entering_from.begin()->first ? Fan::kClosed : Fan::kBroken;
+  return entering_from.count(w) ? Fan::kBroken : Fan::kOpen;
 }
 
 bool LoopPatchBasis::evaluable(std::int32_t t) const {
   const auto& tri = mesh_.triangles[t];
-  return closed_fan(tri[0]) && closed_fan(tri[1]) && closed_fan(tri[2]);
+  return std::none_of(tri.begin(), tri.end(),
+                      [&](std::int32_t v) { return fan(v) == Fan::kBroken; });
 }
 
 bool LoopPatchBasis::is_regular(std::int32_t t) const {
   const auto& tri = mesh_.triangles[t];
   return std::all_of(tri.begin(), tri.end(), [&](std::int32_t v) {
-    return topology_.vertex_triangles().row(v).size() == 6;
+    return topology_.vertex_triangles().row(v).size() == 6 && fan(v) == Fan::kClosed;
   });
 }
 
@@ -266,15 +312,32 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
     }
     return std::int32_t{-1};
   };
+  // The star triangle (v, x, w) in counter-clockwise order: x precedes w around v.
+  const auto previous_around = [&](std::int32_t v, std::int32_t w) {
+    for (const std::int32_t s : star) {
+      const auto& around = mesh.triangles[s];
+      for (int k = 0; k < 3; ++k)
+        if (around[k] == v && around[(k + 2) % 3] == w)
+          return around[(k + 1) % 3];
+    }
+    return std::int32_t{-1};
+  };
   for (int c = 0; c < 3; ++c) {
     const std::int32_t v = tri[c], first = tri[(c + 1) % 3];
-    std::int32_t w = first;
-    for (std::size_t step = 0; step < star.size(); ++step) {
-      w = next_around(v, w);
-      if (w < 0 || w == first)
-        break;
-      if (local(w) == int(controls.size()))
-        controls.push_back(w);
+    // Counter-clockwise from the triangle's next corner; an open fan then clockwise from it.
+    for (const auto& step_around :
+         {std::function<std::int32_t(std::int32_t, std::int32_t)>(next_around),
+          std::function<std::int32_t(std::int32_t, std::int32_t)>(previous_around)}) {
+      std::int32_t w = first;
+      for (std::size_t step = 0; step < star.size(); ++step) {
+        w = step_around(v, w);
+        if (w < 0 || w == first)
+          break;
+        if (local(w) == int(controls.size()))
+          controls.push_back(w);
+      }
+      if (w == first)
+        break; // a closed fan: walked whole
     }
   }
   LocalPatch patch;
@@ -291,7 +354,7 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
                               return std::all_of(numbered.begin(), numbered.end(),
                                                  [&](int v) { return v < int(controls.size()); });
                             }),
-                "Loop basis: the stars of triangle " << t << "'s corners are not closed fans");
+                "Loop basis: the stars of triangle " << t << "'s corners are not whole fans");
   patch.corners = {0, 1, 2};
   patch.weights =
       Eigen::MatrixXd::Identity(Eigen::Index(controls.size()), Eigen::Index(controls.size()));
@@ -301,7 +364,8 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
 } // namespace
 
 std::vector<std::int32_t> LoopPatchBasis::controls(std::int32_t t) const {
-  TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
+  TEXSIM_VERIFY(evaluable(t),
+                "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
   const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
   if (!is_regular_patch(patch))
@@ -313,7 +377,8 @@ std::vector<std::int32_t> LoopPatchBasis::controls(std::int32_t t) const {
 }
 
 std::vector<std::int32_t> LoopPatchBasis::structure(std::int32_t t) const {
-  TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
+  TEXSIM_VERIFY(evaluable(t),
+                "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
   const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
   std::vector<std::int32_t> flat;
@@ -324,7 +389,8 @@ std::vector<std::int32_t> LoopPatchBasis::structure(std::int32_t t) const {
 
 void LoopPatchBasis::evaluate(std::int32_t t, double s, double t_param,
                               PatchBasisValues& out) const {
-  TEXSIM_VERIFY(evaluable(t), "Loop basis: triangle " << t << " has a corner without a closed fan");
+  TEXSIM_VERIFY(evaluable(t),
+                "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
   LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
   if (is_regular_patch(patch)) {
@@ -365,6 +431,31 @@ void LoopPatchBasis::evaluate(std::int32_t t, double s, double t_param,
 
 void LoopPatchBasis::limit_value(std::int32_t v, std::span<const double> values, int components,
                                  std::span<double> out) const {
+  const Fan kind = fan(v);
+  TEXSIM_VERIFY(kind != Fan::kBroken,
+                "Loop basis: vertex " << v << "'s triangles are not one fan (no limit point)");
+  const auto value = [&](std::int32_t w, int c) {
+    return values[std::size_t(w) * std::size_t(components) + std::size_t(c)];
+  };
+  if (kind == Fan::kOpen) {
+    // The limit of the boundary's cubic B-spline: (b1 + 4 v + b2) / 6, b1, b2 the neighbours
+    // across v's two boundary edges (those of one triangle).
+    std::vector<std::int32_t> ends;
+    for (const std::int32_t w : topology_.vertex_neighbors().row(v)) {
+      int shared = 0;
+      for (const std::int32_t t : topology_.vertex_triangles().row(v)) {
+        const auto& tri = mesh_.triangles[t];
+        shared += std::count(tri.begin(), tri.end(), w) ? 1 : 0;
+      }
+      if (shared == 1)
+        ends.push_back(w);
+    }
+    TEXSIM_VERIFY(ends.size() == 2, "Loop basis: boundary vertex " << v << " has " << ends.size()
+                                                                   << " boundary edges");
+    for (int c = 0; c < components; ++c)
+      out[std::size_t(c)] = (value(ends[0], c) + 4.0 * value(v, c) + value(ends[1], c)) / 6.0;
+    return;
+  }
   const auto ring = topology_.vertex_neighbors().row(v);
   const double n = double(ring.size());
   const double weight = 1.0 / (n + 3.0 / (8.0 * loop_beta(int(ring.size()))));

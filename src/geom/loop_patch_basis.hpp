@@ -1,20 +1,25 @@
 #pragma once
-/// The C1 basis of Loop's subdivision surfaces on a closed triangle mesh (Bajaj, Zhang, Xu,
-/// section 3.3): vertex i's function is the limit of Loop subdivision from the value 1 at i and 0
-/// at every other vertex; u = sum_i u_i phi_i, and the surface itself is sum_i x_i phi_i.
+/// The C1 basis of Loop's subdivision surfaces on a triangle mesh (Bajaj, Zhang, Xu, section
+/// 3.3): vertex i's function is the limit of Loop subdivision from the value 1 at i and 0 at every
+/// other vertex; u = sum_i u_i phi_i, and the surface itself is sum_i x_i phi_i.
 ///
 /// On triangle (a, b, c) the nonzero functions are those of its controls, the vertices of its
-/// corners' 1-rings. A regular triangle (three corners of valence 6) is one quartic box spline of
-/// 12 controls (geom/loop_box_spline). An irregular one is subdivided, as the paper does after
-/// Stam, "until the parameter values of interest are inside a regular" sub-triangle: its corners'
-/// stars are refined with Loop's masks, carrying each new vertex as a combination of the
+/// corners' 1-rings. A regular triangle (three interior corners of valence 6) is one quartic box
+/// spline of 12 controls (geom/loop_box_spline). An irregular one is subdivided, as the paper does
+/// after Stam, "until the parameter values of interest are inside a regular" sub-triangle: its
+/// corners' stars are refined with Loop's masks, carrying each new vertex as a combination of the
 /// controls, and the sub-triangle holding the point is followed until it is regular. Points are
 /// x = a + s (b - a) + t (c - a); a point on an extraordinary corner itself is never regular
 /// (quadrature points are interior).
 ///
-/// Every vertex whose function is evaluated must have a closed fan of triangles around it in the
-/// mesh (a boundary is refused): a rank's part can evaluate the triangles whose corners' stars it
-/// holds whole. Serial, not collective.
+/// Boundaries take Loop's boundary rules (Hoppe et al. 1994), the masks geom/patch_refinement
+/// refines with: a boundary edge's new vertex is its midpoint, a boundary vertex moves to
+/// (b1 + 6 v + b2) / 8 of its neighbours along the boundary, so the boundary is the cubic B-spline
+/// of its vertices; a triangle touching it is irregular (points on the boundary itself are never
+/// inside a regular sub-triangle). The triangles around every corner of an evaluated triangle must
+/// be one fan, closed or ending on the boundary: a rank's part can evaluate the triangles whose
+/// corners' stars it holds whole (an open fan is taken as the surface's boundary). Serial, not
+/// collective.
 #include "geom/mesh_topology.hpp"
 #include "geom/triangle_mesh.hpp"
 
@@ -38,9 +43,11 @@ public:
   /// `mesh` consistently oriented; `topology` its adjacency. Both must outlive this object.
   LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology);
 
-  /// Whether every corner of triangle t has a closed fan of triangles around it here.
+  /// Whether the triangles around each corner of triangle t form one fan here, closed or open (a
+  /// boundary vertex); not when a vertex is non-manifold (two fans) or only part of its star is
+  /// held.
   bool evaluable(std::int32_t t) const;
-  /// Three corners of valence 6 (t evaluable).
+  /// Three interior corners of valence 6 (t evaluable).
   bool is_regular(std::int32_t t) const;
   /// The controls of triangle t: for a regular triangle the 12 vertices in kRegularPatchLattice
   /// order (corner order of the mesh's triangle), otherwise its corners' 1-rings in a canonical
@@ -53,17 +60,21 @@ public:
   /// The functions of controls(t) at (s, t_param) of triangle t.
   void evaluate(std::int32_t t, double s, double t_param, PatchBasisValues& out) const;
 
-  /// The limit of Loop subdivision at vertex v (closed fan) of per-vertex `values`
-  /// (`components` per vertex): (1 - n w) v + w sum of the n neighbours, w = 1 / (n + 3 / (8
-  /// beta_n)).
+  /// The limit of Loop subdivision at vertex v of per-vertex `values` (`components` per vertex):
+  /// (1 - n w) v + w sum of the n neighbours, w = 1 / (n + 3 / (8 beta_n)), inside; on the
+  /// boundary (an open fan) (b1 + 4 v + b2) / 6, b1 and b2 its neighbours along the boundary.
   void limit_value(std::int32_t v, std::span<const double> values, int components,
                    std::span<double> out) const;
 
 private:
+  /// The triangles around a vertex: one closed fan (inside), one open fan (on the boundary), or
+  /// neither (non-manifold, or not all held).
+  enum class Fan { kClosed, kOpen, kBroken };
+
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
 
-  bool closed_fan(std::int32_t v) const;
+  Fan fan(std::int32_t v) const;
 };
 
 /// Loop's vertex weight beta_n: an even vertex of valence n moves to (1 - n beta) v + beta sum of

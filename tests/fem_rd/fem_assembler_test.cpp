@@ -78,6 +78,34 @@ TYPED_TEST(FemAssemblerTest, MassIntegratesTheAreaAndStiffnessRowsSumToZero) {
   EXPECT_LT(largest_row, 1e-12 * largest_entry);
 }
 
+TYPED_TEST(FemAssemblerTest, OnAFlatSquareMassIsAtMostItsAreaAndStiffnessRowsSumToZero) {
+  // An open surface: P1 integrates the unit square exactly; Loop's boundary rules make the
+  // boundary the cubic B-spline of its vertices, inside the square (rounded at the corners).
+  const par::Comm comm = par::world();
+  const geom::DistributedMesh mesh(comm, geom::plane(geom::Vec3(1, 1, 0), 16),
+                                   geom::PartitionMethod::kScotch);
+  const auto values = assemble<TypeParam>(mesh, 2);
+  const double mass = global_sum(values.mass);
+  EXPECT_NEAR(global_sum(values.lumped), mass, 1e-12);
+  if constexpr (std::is_same_v<TypeParam, P1Assembler>) {
+    EXPECT_NEAR(mass, 1.0, 1e-12);
+  } else {
+    EXPECT_LT(mass, 1.0 - 1e-6);
+    EXPECT_GT(mass, 0.995);
+  }
+  const TypeParam assembler(mesh);
+  par::PetscMat stiffness = assembler.create_matrix(comm);
+  assembler.set_values(stiffness, values.stiffness);
+  par::PetscVec ones, product;
+  TEXSIM_PETSC_CALL(MatCreateVecs(stiffness, ones.address(), product.address()));
+  TEXSIM_PETSC_CALL(VecSet(ones, 1.0));
+  TEXSIM_PETSC_CALL(MatMult(stiffness, ones, product));
+  double largest_row = 0.0, largest_entry = 0.0;
+  TEXSIM_PETSC_CALL(VecNorm(product, NORM_INFINITY, &largest_row));
+  TEXSIM_PETSC_CALL(MatNorm(stiffness, NORM_MAX, &largest_entry));
+  EXPECT_LT(largest_row, 1e-12 * largest_entry);
+}
+
 TYPED_TEST(FemAssemblerTest, SameBytesForAnyThreadCount) {
   const par::Comm comm = par::world();
   const geom::DistributedMesh mesh(comm, geom::icosphere(4), geom::PartitionMethod::kScotch);

@@ -2,11 +2,27 @@
 // Reaction models defined by the tests themselves, so the solver is checked against known
 // solutions independently of the built-in models.
 #include "core/rng.hpp"
+#include "geom/generators.hpp"
+#include "geom/mesh_validation.hpp"
 #include "rd/reaction_model.hpp"
 
 #include <functional>
 
 namespace texsim::pipelines::fem_rd::test {
+
+/// A noisy level-3 icosphere of radius 5 without its cap above z = 3: an open surface, its
+/// boundary loop's vertices on 2 to 4 triangles, its vertices of valence 5 and 6 inside.
+inline geom::TriangleMesh sphere_without_its_cap() {
+  geom::TriangleMesh mesh = geom::noisy(geom::icosphere(3, 5.0), 0.05, 9);
+  std::erase_if(mesh.triangles, [&](const auto& tri) {
+    return mesh.positions[tri[0]].z() + mesh.positions[tri[1]].z() + mesh.positions[tri[2]].z() >
+           9.0;
+  });
+  geom::MeshRepairOptions options;
+  options.split_non_manifold = true;
+  geom::repair(mesh, options, "sphere without its cap");
+  return mesh;
+}
 
 /// du/dt = Laplace u (C2 = C3 = 0), from u0(x, y, z).
 class HeatModel : public rd::ReactionModel {

@@ -1,5 +1,6 @@
 // The Loop basis against the subdivision it is the limit of: patch values equal the limit points
-// of geom::loop_subdivide at the same parameters, on regular and irregular triangles.
+// of geom::loop_subdivide at the same parameters, on regular and irregular triangles and at
+// boundaries.
 #include "core/error.hpp"
 #include "geom/generators.hpp"
 #include "geom/loop_box_spline.hpp"
@@ -13,6 +14,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <set>
 
 namespace texsim::geom {
 namespace {
@@ -110,9 +112,10 @@ TEST(LoopPatchBasis, TrianglesOfEqualStructureHaveTheSameFunctionsToTheBit) {
     const auto structure = basis.structure(t);
     ++members[structure];
     const auto [first, inserted] = values_of_class.emplace(structure, all);
-    if (!inserted)
+    if (!inserted) {
       EXPECT_EQ(std::memcmp(first->second.data(), all.data(), all.size() * sizeof(double)), 0)
           << "triangle " << t;
+    }
   }
   EXPECT_EQ(members.size(), 4u); // regular, and the extraordinary corner at a, b or c
   int regular = 0;
@@ -136,19 +139,90 @@ TEST(LoopPatchBasis, RegularFunctionsReproduceLinearFunctions) {
   }
 }
 
-TEST(LoopPatchBasis, TrianglesAtABoundaryAreNotEvaluable) {
-  const TriangleMesh mesh = plane(Vec3(1, 1, 0), 6);
+/// A level-1 icosphere without vertex 0's star (a pentagonal hole; vertex 0 is left unused), made
+/// generic by noise: boundary vertices of 4 and 5 triangles, interior ones of valence 5 and 6.
+TriangleMesh sphere_with_a_hole() {
+  TriangleMesh mesh = noisy(icosphere(1), 0.05, 11);
+  std::erase_if(mesh.triangles,
+                [](const auto& tri) { return std::find(tri.begin(), tri.end(), 0) != tri.end(); });
+  return mesh;
+}
+
+TEST(LoopPatchBasis, BoundaryRulesEqualTheLimitOfLoopSubdivisionAtDyadicPoints) {
+  // loop_subdivide refines boundaries with the boundary masks (midpoints, (b1 + 6 v + b2) / 8),
+  // and the limit of a boundary vertex is (b1 + 4 v + b2) / 6: the basis must give those limit
+  // points on the triangles at the hole too, at every dyadic point off the boundary.
+  for (const TriangleMesh& coarse :
+       {sphere_with_a_hole(), noisy(plane(Vec3(1, 1, 0), 3), 0.04, 2)}) {
+    const MeshTopology topology(coarse);
+    const LoopPatchBasis basis(coarse, topology);
+    const int rounds = 3, n = 1 << rounds;
+    const TriangleMesh fine = loop_subdivide(coarse, rounds);
+    const MeshTopology fine_topology(fine);
+    const LoopPatchBasis fine_basis(fine, fine_topology);
+    std::vector<double> xyz;
+    for (const auto& p : fine.positions)
+      xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+    std::vector<Vec3> limit;
+    for (std::int32_t v = 0; v < fine.num_vertices(); ++v)
+      if (!fine_topology.vertex_triangles().row(v).empty()) {
+        limit.emplace_back();
+        fine_basis.limit_value(v, xyz, 3, std::span(limit.back().data(), 3));
+      }
+    std::set<std::pair<std::int32_t, std::int32_t>> boundary;
+    for (const std::int32_t e : topology.boundary_edges())
+      boundary.insert(std::minmax(topology.edges()[e][0], topology.edges()[e][1]));
+    ASSERT_FALSE(boundary.empty());
+    const auto on_boundary = [&](std::int32_t a, std::int32_t b) {
+      return boundary.count(std::minmax(a, b)) > 0;
+    };
+    int at_boundary = 0, points = 0;
+    for (std::int32_t t = 0; t < coarse.num_triangles(); ++t) {
+      ASSERT_TRUE(basis.evaluable(t)) << "triangle " << t;
+      const auto [a, b, c] = coarse.triangles[std::size_t(t)];
+      const bool touches =
+          std::any_of(coarse.triangles[t].begin(), coarse.triangles[t].end(), [&](std::int32_t v) {
+            return std::any_of(boundary.begin(), boundary.end(), [&](const auto& edge) {
+              return edge.first == v || edge.second == v;
+            });
+          });
+      at_boundary += touches ? 1 : 0;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const bool corner = (i == 0 && j == 0) || i == n || j == n;
+          if ((corner && !basis.is_regular(t)) || (j == 0 && on_boundary(a, b)) ||
+              (i + j == n && on_boundary(b, c)) || (i == 0 && on_boundary(c, a)))
+            continue; // never inside a regular sub-triangle
+          PatchBasisValues values;
+          basis.evaluate(t, double(i) / n, double(j) / n, values);
+          EXPECT_NEAR(std::accumulate(values.value.begin(), values.value.end(), 0.0), 1.0, 1e-13);
+          const Vec3 point = patch_point(coarse, basis, t, double(i) / n, double(j) / n);
+          double nearest = INFINITY;
+          for (const auto& q : limit)
+            nearest = std::min(nearest, (q - point).norm());
+          ASSERT_LT(nearest, 1e-12) << "triangle " << t << " at (" << i << ", " << j << ")/" << n;
+          ++points;
+        }
+    }
+    EXPECT_GT(at_boundary, 4);
+    EXPECT_GT(points, 30 * coarse.num_triangles());
+  }
+}
+
+TEST(LoopPatchBasis, VerticesOfTwoFansAreNotEvaluable) {
+  // Two triangles that share only vertex 0 (a bowtie): no Loop mask applies there.
+  TriangleMesh mesh;
+  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0), Vec3(-1, -1, 0)};
+  mesh.triangles = {{0, 1, 2}, {0, 3, 4}};
   const MeshTopology topology(mesh);
   const LoopPatchBasis basis(mesh, topology);
-  int evaluable = 0;
-  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t)
-    if (basis.evaluable(t))
-      ++evaluable;
-    else
-      EXPECT_THROW((void)basis.controls(t), texsim::Error);
-  // The triangles whose corners all lie inside the 7 x 7 grid of vertices: those of the inner
-  // 4 x 4 cells, two per cell.
-  EXPECT_EQ(evaluable, 2 * 4 * 4);
+  for (std::int32_t t = 0; t < 2; ++t) {
+    EXPECT_FALSE(basis.evaluable(t));
+    EXPECT_THROW((void)basis.controls(t), texsim::Error);
+  }
+  const std::vector<double> values{1, 2, 3, 4, 5};
+  double out = 0;
+  EXPECT_THROW(basis.limit_value(0, values, 1, std::span(&out, 1)), texsim::Error);
 }
 
 } // namespace

@@ -87,22 +87,11 @@ void FemRdPipeline::run(RunContext& ctx) {
     surface = {};
     if (settings_.mesh.noise_amplitude > 0)
       geom::add_normal_noise(*mesh, settings_.mesh.noise_amplitude, run.seed);
-    if (settings_.rd.basis == FemBasis::kLoop) {
-      const std::int64_t boundary = geom::boundary_edge_count(*mesh);
-      const std::string surface = settings_.mesh.file.empty() ? std::string("the generated surface")
-                                                              : settings_.mesh.file.string();
-      par::run_collectively(comm, [&] {
-        if (boundary > 0)
-          throw InputError(log::cat(
-              "fem_rd.basis: loop needs a closed surface (Loop's box splines are defined around "
-              "interior vertices), but ",
-              surface, " has ", boundary,
-              " boundary edges; fill its holes (fem_rd.mesh.repair) or use basis: p1"));
-      });
-    }
     const auto& quality = mesh->quality();
     report.metric("vertices", mesh->global_count());
     report.metric("triangles", mesh->global_triangle_count());
+    // Where the surface is open, both bases keep the natural (no-flux) boundary condition.
+    report.metric("boundary_edges", geom::boundary_edge_count(*mesh));
     report.metric(
         "partition",
         {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "scotch"},

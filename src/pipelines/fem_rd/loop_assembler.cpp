@@ -113,10 +113,11 @@ LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedM
     if (tri[0] >= mesh.local_count() && tri[1] >= mesh.local_count() &&
         tri[2] >= mesh.local_count())
       continue; // no corner within one ring of an owned vertex
+    // The mesh section splits non-manifold vertices, and the halo holds the stars of these
+    // triangles' corners: every corner has one fan, closed or ending on the boundary.
     TEXSIM_VERIFY(basis.evaluable(t), "Loop basis: triangle " << t
-                                                              << " has a corner on a "
-                                                                 "boundary or outside this rank's "
-                                                                 "halo");
+                                                              << " has a corner of several fans "
+                                                                 "or outside this rank's halo");
     const auto controls = basis.controls(t);
     list.triangles.push_back(t);
     list.controls.insert(list.controls.end(), controls.begin(), controls.end());
