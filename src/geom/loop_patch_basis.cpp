@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <map>
 #include <numbers>
+#include <set>
 
 namespace texsim::geom {
 namespace {
@@ -22,6 +22,7 @@ struct LocalPatch {
   std::vector<LocalTriangle> triangles;
   Eigen::MatrixXd weights;
   LocalTriangle corners{};
+  std::set<std::pair<int, int>> creases; ///< crease edges (smaller vertex first)
 };
 
 int valence(const LocalPatch& patch, int v) {
@@ -44,32 +45,33 @@ std::vector<int> neighbours(const LocalPatch& patch, int v) {
   return result;
 }
 
-/// A corner's star is whole in the patch, so an edge at it with one triangle lies on the surface's
-/// boundary, and its fan is open: one more neighbour than triangles.
-bool on_boundary(const LocalPatch& patch, int v) {
-  return int(neighbours(patch, v).size()) != valence(patch, v);
+/// Whether edge (v, w) at a corner is sharp: a crease, or on the surface's boundary (the corner's
+/// star is whole in the patch, so an edge at it with one triangle lies on the boundary).
+bool sharp(const LocalPatch& patch, int v, int w) {
+  if (patch.creases.count(std::minmax(v, w)))
+    return true;
+  const auto shared = std::count_if(patch.triangles.begin(), patch.triangles.end(), [&](auto& t) {
+    return std::count(t.begin(), t.end(), v) && std::count(t.begin(), t.end(), w);
+  });
+  return shared == 1;
 }
 
-/// The two neighbours of boundary corner v along the boundary (the edges with one triangle).
-std::array<int, 2> boundary_neighbours(const LocalPatch& patch, int v) {
+/// The neighbours of corner v across its sharp edges.
+std::vector<int> sharp_neighbours(const LocalPatch& patch, int v) {
   std::vector<int> found;
-  for (const int w : neighbours(patch, v)) {
-    const auto shared = std::count_if(patch.triangles.begin(), patch.triangles.end(), [&](auto& t) {
-      return std::count(t.begin(), t.end(), v) && std::count(t.begin(), t.end(), w);
-    });
-    if (shared == 1)
+  for (const int w : neighbours(patch, v))
+    if (sharp(patch, v, w))
       found.push_back(w);
-  }
-  TEXSIM_VERIFY(found.size() == 2,
-                "Loop basis: a boundary corner has " << found.size() << " boundary edges");
-  return {found[0], found[1]};
+  return found;
 }
 
-/// Three interior corners of valence 6: one box spline (boundary controls beyond the corners do
-/// not matter, since the masks that refine the patch read only the corners' stars).
+/// Three smooth interior corners of valence 6 (no sharp edge at them): one box spline (sharp
+/// edges beyond the corners do not matter, since the masks that refine the patch read only the
+/// corners' stars).
 bool is_regular_patch(const LocalPatch& patch) {
-  return std::all_of(patch.corners.begin(), patch.corners.end(),
-                     [&](int v) { return valence(patch, v) == 6 && !on_boundary(patch, v); });
+  return std::all_of(patch.corners.begin(), patch.corners.end(), [&](int v) {
+    return valence(patch, v) == 6 && sharp_neighbours(patch, v).empty();
+  });
 }
 
 /// The third vertex of the triangle holding the directed edge y -> x, i.e. the vertex across the
@@ -131,9 +133,14 @@ LocalPatch refine(const LocalPatch& patch, int child) {
   };
   for (const int v : patch.corners) {
     known[std::size_t(v)] = 1;
-    if (on_boundary(patch, v)) {
-      // The boundary is a cubic B-spline curve of its vertices: (b1 + 6 v + b2) / 8.
-      const auto [b1, b2] = boundary_neighbours(patch, v);
+    const auto sharp_ring = sharp_neighbours(patch, v);
+    if (sharp_ring.size() >= 3) { // a corner of sharp edges stays
+      weights.row(v) = patch.weights.row(v);
+      continue;
+    }
+    if (sharp_ring.size() == 2) {
+      // A boundary or crease is a cubic B-spline curve of its vertices: (b1 + 6 v + b2) / 8.
+      const int b1 = sharp_ring[0], b2 = sharp_ring[1];
       weights.row(v) =
           0.75 * patch.weights.row(v) + 0.125 * (patch.weights.row(b1) + patch.weights.row(b2));
       continue;
@@ -157,7 +164,7 @@ LocalPatch refine(const LocalPatch& patch, int child) {
     TEXSIM_VERIFY(opposite.size() == 1 || opposite.size() == 2,
                   "Loop basis: an edge at a corner has " << opposite.size() << " triangles");
     known[std::size_t(index)] = 1;
-    if (opposite.size() == 1) { // a boundary edge: its midpoint
+    if (sharp(patch, i, j)) { // a boundary or crease edge: its midpoint
       weights.row(index) = 0.5 * (patch.weights.row(i) + patch.weights.row(j));
       continue;
     }
@@ -195,6 +202,13 @@ LocalPatch refine(const LocalPatch& patch, int child) {
   for (const auto& tri : kept)
     result.triangles.push_back({renumber(tri[0]), renumber(tri[1]), renumber(tri[2])});
   result.corners = {renumber(corners[0]), renumber(corners[1]), renumber(corners[2])};
+  const auto is_used = [&](int v) { return std::binary_search(used.begin(), used.end(), v); };
+  for (const auto& [i, j] : patch.creases) {
+    const int m = mid(i, j); // a crease is an edge of the patch's triangles: it was split
+    for (const auto& [x, y] : {std::pair{i, m}, std::pair{m, j}})
+      if (is_used(x) && is_used(y))
+        result.creases.insert(std::minmax(renumber(x), renumber(y)));
+  }
   return result;
 }
 
@@ -233,8 +247,18 @@ double loop_beta(int valence) {
   return (5.0 / 8.0 - spread * spread / 64.0) / n;
 }
 
-LoopPatchBasis::LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology)
-    : mesh_(mesh), topology_(topology) {}
+LoopPatchBasis::LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology,
+                               std::vector<char> creases)
+    : mesh_(mesh), topology_(topology), creases_(std::move(creases)) {
+  TEXSIM_VERIFY(creases_.empty() || creases_.size() == std::size_t(topology.num_edges()),
+                "Loop basis: " << creases_.size() << " crease flags for " << topology.num_edges()
+                               << " edges");
+}
+
+bool LoopPatchBasis::sharp_edge(std::int32_t v, std::int32_t w) const {
+  const std::int32_t e = topology_.find_edge(v, w);
+  return topology_.edge_triangles(e).size() == 1 || (!creases_.empty() && creases_[std::size_t(e)]);
+}
 
 LoopPatchBasis::Fan LoopPatchBasis::fan(std::int32_t v) const {
   // Around a fan every triangle's edge leaving v is the next one's edge entering v: following
@@ -278,7 +302,9 @@ bool LoopPatchBasis::evaluable(std::int32_t t) const {
 bool LoopPatchBasis::is_regular(std::int32_t t) const {
   const auto& tri = mesh_.triangles[t];
   return std::all_of(tri.begin(), tri.end(), [&](std::int32_t v) {
-    return topology_.vertex_triangles().row(v).size() == 6 && fan(v) == Fan::kClosed;
+    const auto ring = topology_.vertex_neighbors().row(v);
+    return topology_.vertex_triangles().row(v).size() == 6 && fan(v) == Fan::kClosed &&
+           std::none_of(ring.begin(), ring.end(), [&](std::int32_t w) { return sharp_edge(v, w); });
   });
 }
 
@@ -288,7 +314,8 @@ namespace {
 /// corners a, b, c as 0, 1, 2, then the vertices met walking each corner's fan counter-clockwise
 /// from the triangle's next corner. Triangles whose neighbourhoods have the same structure get the
 /// same local patch, so every computation on it gives the same bits.
-LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, std::int32_t t,
+LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology,
+                      std::span<const char> creases, std::int32_t t,
                       std::vector<std::int32_t>& controls) {
   std::vector<std::int32_t> star;
   for (const std::int32_t corner : mesh.triangles[t]) {
@@ -302,35 +329,24 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
   const auto local = [&](std::int32_t v) {
     return int(std::find(controls.begin(), controls.end(), v) - controls.begin());
   };
-  // The star triangle (v, w, x) in counter-clockwise order: x follows w around v.
-  const auto next_around = [&](std::int32_t v, std::int32_t w) {
+  // The vertex after w around v, counter-clockwise (offset 1: the star triangle (v, w, x)) or
+  // clockwise (offset 2: the star triangle (v, x, w)); -1 past the end of an open fan.
+  const auto around_from = [&](std::int32_t v, std::int32_t w, int offset) {
     for (const std::int32_t s : star) {
       const auto& around = mesh.triangles[s];
       for (int k = 0; k < 3; ++k)
-        if (around[k] == v && around[(k + 1) % 3] == w)
-          return around[(k + 2) % 3];
-    }
-    return std::int32_t{-1};
-  };
-  // The star triangle (v, x, w) in counter-clockwise order: x precedes w around v.
-  const auto previous_around = [&](std::int32_t v, std::int32_t w) {
-    for (const std::int32_t s : star) {
-      const auto& around = mesh.triangles[s];
-      for (int k = 0; k < 3; ++k)
-        if (around[k] == v && around[(k + 2) % 3] == w)
-          return around[(k + 1) % 3];
+        if (around[k] == v && around[(k + offset) % 3] == w)
+          return around[(k + 3 - offset) % 3];
     }
     return std::int32_t{-1};
   };
   for (int c = 0; c < 3; ++c) {
     const std::int32_t v = tri[c], first = tri[(c + 1) % 3];
     // Counter-clockwise from the triangle's next corner; an open fan then clockwise from it.
-    for (const auto& step_around :
-         {std::function<std::int32_t(std::int32_t, std::int32_t)>(next_around),
-          std::function<std::int32_t(std::int32_t, std::int32_t)>(previous_around)}) {
+    for (const int offset : {1, 2}) {
       std::int32_t w = first;
       for (std::size_t step = 0; step < star.size(); ++step) {
-        w = step_around(v, w);
+        w = around_from(v, w, offset);
         if (w < 0 || w == first)
           break;
         if (local(w) == int(controls.size()))
@@ -355,6 +371,13 @@ LocalPatch star_patch(const TriangleMesh& mesh, const MeshTopology& topology, st
                                                  [&](int v) { return v < int(controls.size()); });
                             }),
                 "Loop basis: the stars of triangle " << t << "'s corners are not whole fans");
+  if (!creases.empty())
+    for (const std::int32_t around : star)
+      for (const std::int32_t e : topology.triangle_edges(around))
+        if (creases[std::size_t(e)]) {
+          const auto [v, w] = topology.edges()[std::size_t(e)];
+          patch.creases.insert(std::minmax(local(v), local(w)));
+        }
   patch.corners = {0, 1, 2};
   patch.weights =
       Eigen::MatrixXd::Identity(Eigen::Index(controls.size()), Eigen::Index(controls.size()));
@@ -367,7 +390,7 @@ std::vector<std::int32_t> LoopPatchBasis::controls(std::int32_t t) const {
   TEXSIM_VERIFY(evaluable(t),
                 "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
-  const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
+  const LocalPatch patch = star_patch(mesh_, topology_, creases_, t, canonical);
   if (!is_regular_patch(patch))
     return canonical;
   std::vector<std::int32_t> lattice;
@@ -380,10 +403,13 @@ std::vector<std::int32_t> LoopPatchBasis::structure(std::int32_t t) const {
   TEXSIM_VERIFY(evaluable(t),
                 "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
-  const LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
+  const LocalPatch patch = star_patch(mesh_, topology_, creases_, t, canonical);
   std::vector<std::int32_t> flat;
   for (const auto& numbered : patch.triangles)
     flat.insert(flat.end(), numbered.begin(), numbered.end());
+  flat.push_back(-1); // then the creases, which change the functions too
+  for (const auto& [v, w] : patch.creases)
+    flat.insert(flat.end(), {v, w});
   return flat;
 }
 
@@ -392,7 +418,7 @@ void LoopPatchBasis::evaluate(std::int32_t t, double s, double t_param,
   TEXSIM_VERIFY(evaluable(t),
                 "Loop basis: triangle " << t << " has a corner whose triangles are not one fan");
   std::vector<std::int32_t> canonical;
-  LocalPatch patch = star_patch(mesh_, topology_, t, canonical);
+  LocalPatch patch = star_patch(mesh_, topology_, creases_, t, canonical);
   if (is_regular_patch(patch)) {
     const auto basis = regular_patch_basis(s, t_param);
     out.value.assign(basis.value.begin(), basis.value.end());
@@ -437,25 +463,25 @@ void LoopPatchBasis::limit_value(std::int32_t v, std::span<const double> values,
   const auto value = [&](std::int32_t w, int c) {
     return values[std::size_t(w) * std::size_t(components) + std::size_t(c)];
   };
-  if (kind == Fan::kOpen) {
-    // The limit of the boundary's cubic B-spline: (b1 + 4 v + b2) / 6, b1, b2 the neighbours
-    // across v's two boundary edges (those of one triangle).
-    std::vector<std::int32_t> ends;
-    for (const std::int32_t w : topology_.vertex_neighbors().row(v)) {
-      int shared = 0;
-      for (const std::int32_t t : topology_.vertex_triangles().row(v)) {
-        const auto& tri = mesh_.triangles[t];
-        shared += std::count(tri.begin(), tri.end(), w) ? 1 : 0;
-      }
-      if (shared == 1)
-        ends.push_back(w);
-    }
-    TEXSIM_VERIFY(ends.size() == 2, "Loop basis: boundary vertex " << v << " has " << ends.size()
-                                                                   << " boundary edges");
+  std::vector<std::int32_t> sharp_ring;
+  for (const std::int32_t w : topology_.vertex_neighbors().row(v))
+    if (sharp_edge(v, w))
+      sharp_ring.push_back(w);
+  if (sharp_ring.size() >= 3) { // a corner of sharp edges
     for (int c = 0; c < components; ++c)
-      out[std::size_t(c)] = (value(ends[0], c) + 4.0 * value(v, c) + value(ends[1], c)) / 6.0;
+      out[std::size_t(c)] = value(v, c);
     return;
   }
+  if (sharp_ring.size() == 2) {
+    // The limit of the boundary's or crease's cubic B-spline: (b1 + 4 v + b2) / 6.
+    for (int c = 0; c < components; ++c)
+      out[std::size_t(c)] =
+          (value(sharp_ring[0], c) + 4.0 * value(v, c) + value(sharp_ring[1], c)) / 6.0;
+    return;
+  }
+  TEXSIM_VERIFY(kind == Fan::kClosed, "Loop basis: boundary vertex " << v << " has "
+                                                                     << sharp_ring.size()
+                                                                     << " boundary edges");
   const auto ring = topology_.vertex_neighbors().row(v);
   const double n = double(ring.size());
   const double weight = 1.0 / (n + 3.0 / (8.0 * loop_beta(int(ring.size()))));

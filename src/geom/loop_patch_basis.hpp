@@ -16,7 +16,12 @@
 /// refines with: a boundary edge's new vertex is its midpoint, a boundary vertex moves to
 /// (b1 + 6 v + b2) / 8 of its neighbours along the boundary, so the boundary is the cubic B-spline
 /// of its vertices; a triangle touching it is irregular (points on the boundary itself are never
-/// inside a regular sub-triangle). The triangles around every corner of an evaluated triangle must
+/// inside a regular sub-triangle). Crease edges (Hoppe et al.'s crease rules, given as flags)
+/// take the boundary's masks: a vertex on two sharp edges (boundary or crease) moves along them
+/// as on a boundary, a vertex on three or more is a corner and stays, and a vertex on one (a dart)
+/// is smooth; the limit surface keeps the creases as sharp cubic B-spline curves, and a triangle
+/// with a sharp edge at a corner is irregular. The triangles around every corner of an evaluated
+/// triangle must
 /// be one fan, closed or ending on the boundary: a rank's part can evaluate the triangles whose
 /// corners' stars it holds whole (an open fan is taken as the surface's boundary). Serial, not
 /// collective.
@@ -41,7 +46,9 @@ public:
   static constexpr int kMaxDepth = 40;
 
   /// `mesh` consistently oriented; `topology` its adjacency. Both must outlive this object.
-  LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology);
+  /// `creases`: 1 per edge of `topology` that is sharp (geom::crease_edges), or empty for none.
+  LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology,
+                 std::vector<char> creases = {});
 
   /// Whether the triangles around each corner of triangle t form one fan here, closed or open (a
   /// boundary vertex); not when a vertex is non-manifold (two fans) or only part of its star is
@@ -73,8 +80,11 @@ private:
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
+  std::vector<char> creases_;
 
   Fan fan(std::int32_t v) const;
+  /// A boundary or crease edge.
+  bool sharp_edge(std::int32_t v, std::int32_t w) const;
 };
 
 /// Loop's vertex weight beta_n: an even vertex of valence n moves to (1 - n beta) v + beta sum of

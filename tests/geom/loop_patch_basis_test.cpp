@@ -2,6 +2,7 @@
 // of geom::loop_subdivide at the same parameters, on regular and irregular triangles and at
 // boundaries.
 #include "core/error.hpp"
+#include "geom/crease_edges.hpp"
 #include "geom/generators.hpp"
 #include "geom/loop_box_spline.hpp"
 #include "geom/loop_patch_basis.hpp"
@@ -31,6 +32,22 @@ Vec3 patch_point(const TriangleMesh& mesh, const LoopPatchBasis& basis, std::int
   return point;
 }
 
+/// The limit points of `fine`'s vertices that lie on triangles (Loop's limit masks).
+std::vector<Vec3> limit_points(const TriangleMesh& fine) {
+  const MeshTopology topology(fine);
+  const LoopPatchBasis basis(fine, topology);
+  std::vector<double> xyz;
+  for (const auto& p : fine.positions)
+    xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+  std::vector<Vec3> limit;
+  for (std::int32_t v = 0; v < fine.num_vertices(); ++v)
+    if (!topology.vertex_triangles().row(v).empty()) {
+      limit.emplace_back();
+      basis.limit_value(v, xyz, 3, std::span(limit.back().data(), 3));
+    }
+  return limit;
+}
+
 TEST(LoopPatchBasis, EqualsTheLimitOfLoopSubdivisionAtDyadicPoints) {
   // A level-1 icosphere has 20 regular triangles and 60 with a valence-5 corner; noise makes the
   // positions generic.
@@ -38,15 +55,7 @@ TEST(LoopPatchBasis, EqualsTheLimitOfLoopSubdivisionAtDyadicPoints) {
   const MeshTopology topology(coarse);
   const LoopPatchBasis basis(coarse, topology);
   const int rounds = 3, n = 1 << rounds;
-  const TriangleMesh fine = loop_subdivide(coarse, rounds);
-  const MeshTopology fine_topology(fine);
-  const LoopPatchBasis fine_basis(fine, fine_topology);
-  std::vector<double> xyz;
-  for (const auto& p : fine.positions)
-    xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-  std::vector<Vec3> limit(fine.positions.size());
-  for (std::int32_t v = 0; v < fine.num_vertices(); ++v)
-    fine_basis.limit_value(v, xyz, 3, std::span(limit[std::size_t(v)].data(), 3));
+  const std::vector<Vec3> limit = limit_points(loop_subdivide(coarse, rounds));
 
   int regular = 0, irregular = 0;
   for (std::int32_t t = 0; t < coarse.num_triangles(); ++t) {
@@ -157,18 +166,7 @@ TEST(LoopPatchBasis, BoundaryRulesEqualTheLimitOfLoopSubdivisionAtDyadicPoints) 
     const MeshTopology topology(coarse);
     const LoopPatchBasis basis(coarse, topology);
     const int rounds = 3, n = 1 << rounds;
-    const TriangleMesh fine = loop_subdivide(coarse, rounds);
-    const MeshTopology fine_topology(fine);
-    const LoopPatchBasis fine_basis(fine, fine_topology);
-    std::vector<double> xyz;
-    for (const auto& p : fine.positions)
-      xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-    std::vector<Vec3> limit;
-    for (std::int32_t v = 0; v < fine.num_vertices(); ++v)
-      if (!fine_topology.vertex_triangles().row(v).empty()) {
-        limit.emplace_back();
-        fine_basis.limit_value(v, xyz, 3, std::span(limit.back().data(), 3));
-      }
+    const std::vector<Vec3> limit = limit_points(loop_subdivide(coarse, rounds));
     std::set<std::pair<std::int32_t, std::int32_t>> boundary;
     for (const std::int32_t e : topology.boundary_edges())
       boundary.insert(std::minmax(topology.edges()[e][0], topology.edges()[e][1]));
@@ -207,6 +205,63 @@ TEST(LoopPatchBasis, BoundaryRulesEqualTheLimitOfLoopSubdivisionAtDyadicPoints) 
     EXPECT_GT(at_boundary, 4);
     EXPECT_GT(points, 30 * coarse.num_triangles());
   }
+}
+
+/// A square of 8 x 8 cells folded along its middle column of vertices: x <= 0 lies in the plane
+/// z = 0, the other half in the plane x = 0 (a 90 degree crease along the y axis).
+TriangleMesh folded_square() {
+  TriangleMesh mesh = plane(Vec3(2, 1, 0), 8);
+  for (auto& p : mesh.positions) {
+    const double u = p.x() - 1.0;
+    p = u <= 0 ? Vec3(u, p.y(), 0) : Vec3(0, p.y(), u);
+  }
+  return mesh;
+}
+
+TEST(LoopPatchBasis, CreaseRulesKeepAFoldSharp) {
+  // With the fold's edges as creases each half's limit surface stays in its plane: the masks
+  // of a half read only its own vertices and the crease's, which lie in both planes. Without
+  // crease rules the limit surface rounds the fold.
+  const TriangleMesh mesh = folded_square();
+  const MeshTopology topology(mesh);
+  const std::vector<char> creases = crease_edges(mesh, topology, 45.0);
+  EXPECT_EQ(std::count(creases.begin(), creases.end(), 1), 8); // the fold's 8 edges
+  const LoopPatchBasis sharp(mesh, topology, creases), smooth(mesh, topology);
+  const int n = 8;
+  double sharp_off_plane = 0, smooth_off_plane = 0;
+  int points = 0;
+  for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const auto& tri = mesh.triangles[std::size_t(t)];
+    // The right half has x = 0 at every vertex; a left triangle has a vertex at x < 0.
+    const bool left = std::any_of(tri.begin(), tri.end(),
+                                  [&](std::int32_t v) { return mesh.positions[v].x() < 0; });
+    const auto sharp_edge = [&](std::int32_t a, std::int32_t b) {
+      const std::int32_t e = topology.find_edge(a, b);
+      return creases[std::size_t(e)] || topology.edge_triangles(e).size() == 1;
+    };
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const bool corner = (i == 0 && j == 0) || i == n || j == n;
+        if (corner || (j == 0 && sharp_edge(tri[0], tri[1])) ||
+            (i + j == n && sharp_edge(tri[1], tri[2])) || (i == 0 && sharp_edge(tri[2], tri[0])))
+          continue; // never inside a regular sub-triangle
+        const double s = double(i) / n, u = double(j) / n;
+        PatchBasisValues values;
+        sharp.evaluate(t, s, u, values);
+        EXPECT_NEAR(std::accumulate(values.value.begin(), values.value.end(), 0.0), 1.0, 1e-13);
+        const Vec3 kept = patch_point(mesh, sharp, t, s, u);
+        const Vec3 rounded = patch_point(mesh, smooth, t, s, u);
+        sharp_off_plane = std::max(sharp_off_plane, std::abs(left ? kept.z() : kept.x()));
+        smooth_off_plane = std::max(smooth_off_plane, std::abs(left ? rounded.z() : rounded.x()));
+        ++points;
+      }
+  }
+  EXPECT_GT(points, 1000);
+  EXPECT_LT(sharp_off_plane, 1e-12);
+  EXPECT_GT(smooth_off_plane, 1e-2);
+  // Crease classes get tables of their own: the structure names the creases.
+  const std::int32_t at_fold = 6; // cell (3, 0): its right edge lies on the fold
+  EXPECT_NE(sharp.structure(at_fold), smooth.structure(at_fold));
 }
 
 TEST(LoopPatchBasis, VerticesOfTwoFansAreNotEvaluable) {

@@ -29,8 +29,9 @@ namespace texsim::pipelines::fem_rd {
 class LoopAssembler final : public FemAssembler {
 public:
   /// Builds the pattern, the basis values at every quadrature point and the geometry of the
-  /// current control positions. Not collective.
-  explicit LoopAssembler(const geom::DistributedMesh& mesh);
+  /// current control positions; `creases` flags the local mesh's crease edges
+  /// (geom::crease_edges), empty for none. Not collective.
+  explicit LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases = {});
 
   /// Recomputes the limit surface's tangents and area element at every quadrature point.
   void update_geometry() override;
@@ -55,8 +56,9 @@ private:
     std::vector<std::int64_t> offsets{0};
     std::vector<std::int32_t> controls; ///< local vertex ids
   };
-  static ElementList list_elements(const geom::DistributedMesh& mesh);
-  LoopAssembler(const geom::DistributedMesh& mesh, ElementList list);
+  static ElementList list_elements(const geom::DistributedMesh& mesh,
+                                   const std::vector<char>& creases);
+  LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases, ElementList list);
 
   /// The functions of an element's controls at its quadrature points (rows: points).
   struct Table {
@@ -76,6 +78,7 @@ private:
                                const std::vector<double>& weights);
 
   const geom::DistributedMesh& mesh_;
+  std::vector<char> creases_;
   std::vector<Table> tables_; ///< [0] regular, then one per class of irregular triangles
   std::vector<Element> elements_;
   std::vector<std::int32_t> controls_; ///< local vertex ids, element after element
