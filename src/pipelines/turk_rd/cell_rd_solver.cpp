@@ -153,8 +153,8 @@ void CellRdSolver::build_lane_groups() {
   // consecutive cells on the bunny). Each cell's sum is its own, so the grouping leaves the bits.
   // Slot k of lane l of group g is entry group_offsets_[g] + k kLanes + l. Lists are padded to
   // the group's largest degree with the cell itself and weight 0: 0 * (c_i - c_i) adds +0, so
-  // each sum keeps its bits; lanes past the block's end repeat its first cell and are not
-  // stored. A slot holds the neighbour's first value in the species-interleaved state
+  // each sum keeps its bits; lanes past the block's end repeat the group's first cell and
+  // are not stored. A slot holds the neighbour's first value in the species-interleaved state
   // (index x species), which the kernel adds to the base pointer with a scaled address.
   const std::int32_t n = cells_.owned_count();
   const auto& stencil = cells_.neighbors();
