@@ -248,8 +248,8 @@ double loop_beta(int valence) {
 }
 
 LoopPatchBasis::LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology,
-                               std::vector<char> creases)
-    : mesh_(mesh), topology_(topology), creases_(std::move(creases)) {
+                               std::span<const char> creases)
+    : mesh_(mesh), topology_(topology), creases_(creases) {
   TEXSIM_VERIFY(creases_.empty() || creases_.size() == std::size_t(topology.num_edges()),
                 "Loop basis: " << creases_.size() << " crease flags for " << topology.num_edges()
                                << " edges");

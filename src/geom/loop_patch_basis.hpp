@@ -45,10 +45,10 @@ public:
   /// extraordinary corner (in s, t) is refused.
   static constexpr int kMaxDepth = 40;
 
-  /// `mesh` consistently oriented; `topology` its adjacency. Both must outlive this object.
-  /// `creases`: 1 per edge of `topology` that is sharp (geom::crease_edges), or empty for none.
+  /// `mesh` consistently oriented; `topology` its adjacency; `creases` 1 per edge of `topology`
+  /// that is sharp (geom::crease_edges), or empty for none. All must outlive this object.
   LoopPatchBasis(const TriangleMesh& mesh, const MeshTopology& topology,
-                 std::vector<char> creases = {});
+                 std::span<const char> creases = {});
 
   /// Whether the triangles around each corner of triangle t form one fan here, closed or open (a
   /// boundary vertex); not when a vertex is non-manifold (two fans) or only part of its star is
@@ -80,7 +80,7 @@ private:
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
-  std::vector<char> creases_;
+  std::span<const char> creases_;
 
   Fan fan(std::int32_t v) const;
   /// A boundary or crease edge.

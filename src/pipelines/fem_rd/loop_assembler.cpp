@@ -105,7 +105,7 @@ ElementAssembly element_assembly(const geom::DistributedMesh& mesh,
 } // namespace
 
 LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedMesh& mesh,
-                                                        const std::vector<char>& creases) {
+                                                        std::span<const char> creases) {
   const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), creases);
   ElementList list;
   const auto& triangles = mesh.mesh().triangles;
@@ -127,13 +127,13 @@ LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedM
   return list;
 }
 
-LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases)
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases)
     : LoopAssembler(mesh, creases, list_elements(mesh, creases)) {}
 
-LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases,
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases,
                              ElementList list)
     : FemAssembler(element_assembly(mesh, list.offsets, list.controls)), mesh_(mesh),
-      creases_(std::move(creases)), controls_(std::move(list.controls)) {
+      controls_(std::move(list.controls)) {
   const TriangleRule regular_rule = collapsed_gauss_rule();
   const TriangleRule irregular_rule = subdivided_rule(regular_rule, kIrregularSplit);
   Table regular;
@@ -154,7 +154,7 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char
   }
   tables_.push_back(std::move(regular));
 
-  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), creases_);
+  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), creases);
   std::map<std::vector<std::int32_t>, std::size_t> table_of_structure;
   std::size_t points = 0;
   for (std::size_t e = 0; e < list.triangles.size(); ++e) {

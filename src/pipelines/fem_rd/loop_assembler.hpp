@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::fem_rd {
@@ -31,7 +32,7 @@ public:
   /// Builds the pattern, the basis values at every quadrature point and the geometry of the
   /// current control positions; `creases` flags the local mesh's crease edges
   /// (geom::crease_edges), empty for none. Not collective.
-  explicit LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases = {});
+  explicit LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases = {});
 
   /// Recomputes the limit surface's tangents and area element at every quadrature point.
   void update_geometry() override;
@@ -57,8 +58,8 @@ private:
     std::vector<std::int32_t> controls; ///< local vertex ids
   };
   static ElementList list_elements(const geom::DistributedMesh& mesh,
-                                   const std::vector<char>& creases);
-  LoopAssembler(const geom::DistributedMesh& mesh, std::vector<char> creases, ElementList list);
+                                   std::span<const char> creases);
+  LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases, ElementList list);
 
   /// The functions of an element's controls at its quadrature points (rows: points).
   struct Table {
@@ -78,7 +79,6 @@ private:
                                const std::vector<double>& weights);
 
   const geom::DistributedMesh& mesh_;
-  std::vector<char> creases_;
   std::vector<Table> tables_; ///< [0] regular, then one per class of irregular triangles
   std::vector<Element> elements_;
   std::vector<std::int32_t> controls_; ///< local vertex ids, element after element

@@ -21,7 +21,7 @@ namespace {
 constexpr std::uint32_t kProbeStream = 0x7e57;
 
 std::unique_ptr<FemAssembler> make_assembler(const geom::DistributedMesh& mesh, FemBasis basis,
-                                             const std::vector<char>& creases) {
+                                             std::span<const char> creases) {
   if (basis == FemBasis::kLoop)
     return std::make_unique<LoopAssembler>(mesh, creases);
   return std::make_unique<P1Assembler>(mesh);
