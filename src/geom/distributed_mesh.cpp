@@ -41,8 +41,9 @@ int coarse_halo_rings(int rounds) {
 /// The coarse mesh on rank 0, its triangles partitioned, and what it takes to cut each part.
 class CoarsePartition {
 public:
-  CoarsePartition(const TriangleMesh& coarse, PartitionMethod method, int ranks, int rings)
-      : topology_(coarse), cutter_(coarse, topology_), rings_(rings) {
+  CoarsePartition(const TriangleMesh& coarse, std::span<const char> creases, PartitionMethod method,
+                  int ranks, int rings)
+      : topology_(coarse), cutter_(coarse, topology_, creases), rings_(rings) {
     const std::int32_t triangles = coarse.num_triangles();
     std::vector<int> owner(std::size_t(triangles), 0);
     if (ranks > 1 && method == PartitionMethod::kMorton)
@@ -131,6 +132,7 @@ template <typename Part, typename Visitor> void visit_arrays(Part& part, Visitor
   visit(part.patch.vertex_id);
   visit(part.patch.triangle_id);
   visit(part.patch.triangle_edge_id);
+  visit(part.patch.triangle_edge_crease);
   visit(part.triangle_owner);
   visit(part.triangle_ring);
 }
@@ -240,14 +242,15 @@ ask_global_ids(const par::Comm& comm, const std::vector<std::int64_t>& wanted,
 } // namespace
 
 DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh,
-                                 PartitionMethod method, std::span<const RefinementStep> refinement)
+                                 PartitionMethod method, std::span<const RefinementStep> refinement,
+                                 std::span<const char> root_creases)
     : comm_(comm), rank_(comm.rank), topology_(TriangleMesh{}) {
   const double start_s = wall_seconds();
   const int rings = coarse_halo_rings(int(refinement.size()));
   std::unique_ptr<CoarsePartition> root;
   par::run_collectively(comm, [&] {
     if (comm.is_root())
-      root = std::make_unique<CoarsePartition>(root_mesh, method, comm.size, rings);
+      root = std::make_unique<CoarsePartition>(root_mesh, root_creases, method, comm.size, rings);
   });
   std::int64_t coarse_triangles = root ? root->triangle_count() : 0;
   MPI_Bcast(&coarse_triangles, 1, MPI_INT64_T, 0, comm.raw);
@@ -369,12 +372,17 @@ DistributedMesh::DistributedMesh(const par::Comm& comm, const TriangleMesh& root
   std::sort(keyed.begin(), keyed.end(), [](const KeyedTriangle& a, const KeyedTriangle& b) {
     return a.sorted_ids < b.sorted_ids;
   });
+  std::vector<EdgeFlags> triangle_creases;
   for (const auto& [ids, t] : keyed) {
     const auto& tri = fine.mesh.triangles[t];
     mesh_.triangles.push_back({local_of[tri[0]], local_of[tri[1]], local_of[tri[2]]});
+    if (!fine.triangle_edge_crease.empty())
+      triangle_creases.push_back(fine.triangle_edge_crease[t]);
   }
   fine = {};
   topology_ = MeshTopology(mesh_);
+  if (!triangle_creases.empty())
+    creases_ = edge_flags(topology_, triangle_creases);
 
   const std::int32_t owned_local = owned_count();
   std::int64_t cut = 0;

@@ -51,15 +51,21 @@ public:
   static constexpr int kHaloRings = 3;
 
   /// Partitions `root_mesh`, read on rank 0 (ignored on the other ranks), over `comm` and gives
-  /// each rank its part, refined by `refinement` (the same steps on every rank). Collective.
+  /// each rank its part, refined by `refinement` (the same steps on every rank) with the crease
+  /// edges `root_creases` (rank 0: per edge of MeshTopology(root_mesh), empty for none) kept
+  /// sharp. Collective.
   DistributedMesh(const par::Comm& comm, const TriangleMesh& root_mesh, PartitionMethod method,
-                  std::span<const RefinementStep> refinement = {});
+                  std::span<const RefinementStep> refinement = {},
+                  std::span<const char> root_creases = {});
 
   const par::Comm& comm() const { return comm_; }
 
   /// This rank's part: owned vertices, ghosts, outer halo (see above).
   const TriangleMesh& mesh() const { return mesh_; }
   const MeshTopology& topology() const { return topology_; }
+  /// Per edge of topology(), 1 for a crease (the halves of the root mesh's creases); empty when
+  /// the root mesh had none.
+  std::span<const char> creases() const { return creases_; }
   /// Local vertex -> its id in the refined mesh (patch_refinement's hierarchical ids; without
   /// refinement, its id in the mesh given to the constructor): for random numbers, outputs and
   /// checkpoints that must not depend on the partition.
@@ -113,6 +119,7 @@ private:
   int rank_ = 0;
   TriangleMesh mesh_;
   MeshTopology topology_;
+  std::vector<char> creases_;
   std::vector<std::int32_t> global_id_;
   std::vector<std::int64_t> input_id_;
   std::vector<std::int32_t> owner_begin_;

@@ -1,8 +1,8 @@
 #include "geom/mesh_source.hpp"
 
 #include "core/log.hpp"
+#include "geom/crease_edges.hpp"
 #include "geom/generators.hpp"
-#include "geom/loop_subdivision.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_reader.hpp"
 
@@ -49,6 +49,8 @@ MeshSource read_mesh_source(const ConfigSection& section) {
   source.scale = section.get<double>("scale", source.scale, positive());
   source.subdivision_levels =
       section.get<int>("subdivision_levels", source.subdivision_levels, int_in_range(0, 6));
+  source.crease_angle =
+      section.get<double>("crease_angle", source.crease_angle, in_range(0.0, 180.0));
   source.noise_amplitude =
       section.get<double>("noise_amplitude", source.noise_amplitude, non_negative());
   source.repair.strict = section.choice<bool>("repair", false, {{"fix", false}, {"strict", true}});
@@ -148,16 +150,23 @@ SurfacePlan plan_surface(const MeshSource& source, MeshBuildReport* report) {
          (std::int64_t(mesh.num_triangles()) << (2 * serial_loop)) <
              kDistributedRefinementTriangles)
     ++serial_loop;
-  if (serial_loop > 0)
-    mesh = loop_subdivide(mesh, serial_loop);
+  if (source.crease_angle < 180.0)
+    plan.creases = crease_edges(mesh, MeshTopology(mesh), source.crease_angle);
+  if (serial_loop > 0) {
+    const std::vector<RefinementStep> rounds(std::size_t(serial_loop), RefinementStep{});
+    std::vector<char> fine_creases;
+    mesh = refine(mesh, rounds, plan.creases, &fine_creases);
+    plan.creases = std::move(fine_creases);
+  }
   plan.refinement.insert(plan.refinement.end(),
                          std::size_t(source.subdivision_levels - serial_loop), RefinementStep{});
   return plan;
 }
 
-TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildReport* report) {
+TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed, MeshBuildReport* report,
+                        std::vector<char>* creases) {
   auto plan = plan_surface(source, report);
-  TriangleMesh mesh = refine(plan.coarse, plan.refinement);
+  TriangleMesh mesh = refine(plan.coarse, plan.refinement, plan.creases, creases);
   if (source.noise_amplitude > 0)
     mesh = noisy(mesh, source.noise_amplitude * mean_edge_length(mesh), seed);
   return mesh;

@@ -33,7 +33,11 @@ struct MeshSource {
   Vec3 box_size{1.0, 1.0, 1.0};                   ///< size (box; plane: x and y)
   int box_cells_per_edge = 8;                     ///< cells_per_edge (box, plane)
   double scale = 1.0; ///< scale: factor on every coordinate (sets the pattern size of RD runs)
-  int subdivision_levels = 0;   ///< subdivision_levels: Loop subdivision steps
+  int subdivision_levels = 0; ///< subdivision_levels: Loop subdivision steps
+  /// crease_angle (degrees; 180: none): edges whose triangles' normals differ by more are
+  /// creases, flagged before subdivision and noise and kept sharp by Loop's crease rules, in the
+  /// subdivision and in fem_rd's Loop basis.
+  double crease_angle = 180.0;
   double noise_amplitude = 0.0; ///< noise_amplitude: times the mean edge length
   /// repair: fix (default: split non-manifold edges and vertices, orient, drop small components,
   /// optionally fill holes) or strict (refuse what needs repair); min_component_fraction (0.01:
@@ -74,17 +78,19 @@ inline constexpr std::int64_t kDistributedRefinementTriangles = 65536;
 struct SurfacePlan {
   TriangleMesh coarse;
   std::vector<RefinementStep> refinement;
+  std::vector<char> creases; ///< per edge of MeshTopology(coarse); empty: none
 };
 
 /// Reads (with the repairs of geom::repair as `source.repair` says, reported through `report` when
-/// not null) or generates the coarse mesh, scales it, remeshes it and refines it up to the
-/// distributed threshold. Serial.
+/// not null) or generates the coarse mesh, scales it, remeshes it, flags its creases and refines
+/// it up to the distributed threshold. Serial.
 SurfacePlan plan_surface(const MeshSource& source, MeshBuildReport* report = nullptr);
 
 /// plan_surface(), the remaining rounds (geom::refine) and noise along the normals keyed by `seed`
-/// (noisy()): the whole surface. Serial; the same on every rank.
+/// (noisy()): the whole surface, and its creases in `creases` when not null (per edge of its
+/// MeshTopology; empty: none). Serial; the same on every rank.
 TriangleMesh build_mesh(const MeshSource& source, std::uint64_t seed,
-                        MeshBuildReport* report = nullptr);
+                        MeshBuildReport* report = nullptr, std::vector<char>* creases = nullptr);
 
 /// Logs (rank 0) what build_mesh() repaired and remeshed and records it in `run` as the metrics
 /// "mesh_repair" (mode and every count of RepairReport::metrics) and "mesh_remesh".

@@ -60,25 +60,31 @@ struct Level {
   std::vector<std::int64_t> id;
   std::vector<std::int32_t> parent;
   std::vector<std::array<Weights, 3>> corner_weights;
+  std::vector<EdgeFlags> crease; ///< per triangle; empty: no creases
   std::int64_t resolution = 1;
 };
 
-/// Loop's new position of an old vertex: the boundary mask (6 v + b1 + b2) / 8 on a boundary, the
-/// interior mask (1 - c) v + c / k sum of the k neighbours otherwise, c = 5/8 - (3 + 2 cos(2 pi /
-/// k))^2 / 64. A vertex with other than two boundary neighbours (only at a patch's border, the
+/// A vertex's sharp edges: the boundary and crease edges at it, as the far ends.
+struct SharpEdges {
+  std::vector<std::int32_t> ends;
+  bool on_boundary = false;
+};
+
+/// Loop's new position of an old vertex. On two sharp edges (a boundary or a crease) the
+/// B-spline mask (6 v + b1 + b2) / 8 along them; on three or more (a corner) it stays; otherwise
+/// (a dart too) the interior mask (1 - c) v + c / k sum of the k neighbours, c = 5/8 - (3 + 2
+/// cos(2 pi / k))^2 / 64. A boundary vertex with one boundary edge (only at a patch's border, the
 /// input being edge-manifold) keeps its position. `neighbours` is scratch, reused across vertices.
 Vec3 loop_even(const Level& level, const MeshTopology& topology, std::int32_t v,
-               const std::vector<std::vector<std::int32_t>>& boundary_neighbours,
-               std::vector<std::int32_t>& neighbours) {
+               const SharpEdges& sharp, std::vector<std::int32_t>& neighbours) {
   const auto& p = level.mesh.positions;
   const auto by_id = [&](std::int32_t a, std::int32_t b) { return level.id[a] < level.id[b]; };
-  if (!boundary_neighbours[v].empty()) {
-    if (boundary_neighbours[v].size() != 2)
-      return p[v];
-    const auto [first, second] =
-        std::minmax(boundary_neighbours[v][0], boundary_neighbours[v][1], by_id);
+  if (sharp.ends.size() == 2) {
+    const auto [first, second] = std::minmax(sharp.ends[0], sharp.ends[1], by_id);
     return (6.0 * p[v] + p[first] + p[second]) / 8.0;
   }
+  if (sharp.ends.size() >= 3 || sharp.on_boundary)
+    return p[v];
   const auto row = topology.vertex_neighbors().row(v);
   if (row.empty())
     return p[v];
@@ -94,8 +100,8 @@ Vec3 loop_even(const Level& level, const MeshTopology& topology, std::int32_t v,
 }
 
 /// Position of the new vertex on edge e: Loop's (3 (a + b) + c + d) / 8 (c, d opposite the edge)
-/// or the midpoint on a boundary; the sphere rule's projected midpoint.
-Vec3 odd_position(const Level& level, const MeshTopology& topology, std::int32_t e,
+/// or the midpoint on a boundary or crease; the sphere rule's projected midpoint.
+Vec3 odd_position(const Level& level, const MeshTopology& topology, std::int32_t e, bool crease,
                   const RefinementStep& step) {
   const auto& p = level.mesh.positions;
   auto [a, b] = topology.edges()[e];
@@ -106,7 +112,7 @@ Vec3 odd_position(const Level& level, const MeshTopology& topology, std::int32_t
     return centre + step.radius * (0.5 * (p[a] + p[b]) - centre).normalized();
   }
   const auto around = topology.edge_triangles(e);
-  if (around.size() == 1)
+  if (around.size() == 1 || crease)
     return 0.5 * (p[a] + p[b]);
   std::array<std::int32_t, 2> opposite{};
   for (int k = 0; k < 2; ++k)
@@ -132,24 +138,32 @@ Level refine_once(const Level& level, const RefinementStep& step, const Hierarch
   fine.id.resize(fine.mesh.positions.size(), -1);
   std::copy(level.id.begin(), level.id.end(), fine.id.begin());
 
-  std::vector<std::vector<std::int32_t>> boundary_neighbours(static_cast<std::size_t>(vertices));
-  for (const std::int32_t e : topology.boundary_edges()) {
+  const std::vector<char> crease = edge_flags(topology, level.crease);
+  std::vector<SharpEdges> sharp(static_cast<std::size_t>(vertices));
+  for (std::int32_t e = 0; e < edges; ++e) {
+    const bool boundary = topology.edge_triangles(e).size() == 1;
+    if (!boundary && !crease[e])
+      continue;
     const auto [a, b] = topology.edges()[e];
-    boundary_neighbours[a].push_back(b);
-    boundary_neighbours[b].push_back(a);
+    sharp[a].ends.push_back(b);
+    sharp[b].ends.push_back(a);
+    sharp[a].on_boundary = sharp[a].on_boundary || boundary;
+    sharp[b].on_boundary = sharp[b].on_boundary || boundary;
   }
   std::vector<std::int32_t> neighbours;
   for (std::int32_t v = 0; v < vertices; ++v)
     fine.mesh.positions[v] = step.rule == RefinementStep::Rule::kLoop
-                                 ? loop_even(level, topology, v, boundary_neighbours, neighbours)
+                                 ? loop_even(level, topology, v, sharp[v], neighbours)
                                  : level.mesh.positions[v];
   for (std::int32_t e = 0; e < edges; ++e)
-    fine.mesh.positions[vertices + e] = odd_position(level, topology, e, step);
+    fine.mesh.positions[vertices + e] = odd_position(level, topology, e, crease[e] != 0, step);
 
   const std::size_t triangles = level.mesh.triangles.size();
   fine.mesh.triangles.reserve(4 * triangles);
   fine.parent.reserve(4 * triangles);
   fine.corner_weights.reserve(4 * triangles);
+  if (!level.crease.empty())
+    fine.crease.reserve(4 * triangles);
   for (std::size_t t = 0; t < triangles; ++t) {
     const auto& corner = level.mesh.triangles[t];
     const auto& w = level.corner_weights[t];
@@ -172,13 +186,45 @@ Level refine_once(const Level& level, const RefinementStep& step, const Hierarch
     fine.corner_weights.push_back({mid_weights[0], mid_weights[1], mid_weights[2]});
     for (int child = 0; child < 4; ++child)
       fine.parent.push_back(level.parent[t]);
+    if (!level.crease.empty()) {
+      // A corner child's edges along the sides are halves of them; the middle child's are new.
+      const EdgeFlags& side = level.crease[t];
+      fine.crease.push_back({0, side[1], side[2]});
+      fine.crease.push_back({0, side[2], side[0]});
+      fine.crease.push_back({0, side[0], side[1]});
+      fine.crease.push_back({0, 0, 0});
+    }
   }
   return fine;
 }
 
 } // namespace
 
-CoarsePatch CoarsePatch::whole(const TriangleMesh& mesh) {
+std::vector<EdgeFlags> triangle_edge_flags(const MeshTopology& topology,
+                                           std::span<const char> edge_flags) {
+  if (edge_flags.empty())
+    return {};
+  TEXSIM_VERIFY(edge_flags.size() == std::size_t(topology.num_edges()),
+                "triangle_edge_flags: " << edge_flags.size() << " flags for "
+                                        << topology.num_edges() << " edges");
+  std::vector<EdgeFlags> flags(std::size_t(topology.num_triangles()));
+  for (std::int32_t t = 0; t < topology.num_triangles(); ++t)
+    for (int i = 0; i < 3; ++i)
+      flags[t][i] = edge_flags[std::size_t(topology.triangle_edges(t)[i])];
+  return flags;
+}
+
+std::vector<char> edge_flags(const MeshTopology& topology,
+                             std::span<const EdgeFlags> triangle_flags) {
+  std::vector<char> flags(std::size_t(topology.num_edges()), 0);
+  for (std::size_t t = 0; t < triangle_flags.size(); ++t)
+    for (int i = 0; i < 3; ++i)
+      if (triangle_flags[t][i])
+        flags[std::size_t(topology.triangle_edges(std::int32_t(t))[i])] = 1;
+  return flags;
+}
+
+CoarsePatch CoarsePatch::whole(const TriangleMesh& mesh, std::span<const char> creases) {
   const MeshTopology topology(mesh);
   CoarsePatch patch;
   patch.mesh = mesh;
@@ -190,14 +236,17 @@ CoarsePatch CoarsePatch::whole(const TriangleMesh& mesh) {
     const auto& edges = topology.triangle_edges(t);
     patch.triangle_edge_id.push_back({edges[0], edges[1], edges[2]});
   }
+  patch.triangle_edge_crease = triangle_edge_flags(topology, creases);
   patch.coarse_vertices = mesh.num_vertices();
   patch.coarse_edges = topology.num_edges();
   return patch;
 }
 
-PatchCutter::PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology)
-    : mesh_(mesh), topology_(topology), triangle_stamp_(mesh.triangles.size(), -1),
-      vertex_stamp_(mesh.positions.size(), -1), local_of_(mesh.positions.size(), -1) {}
+PatchCutter::PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology,
+                         std::span<const char> creases)
+    : mesh_(mesh), topology_(topology), creases_(creases),
+      triangle_stamp_(mesh.triangles.size(), -1), vertex_stamp_(mesh.positions.size(), -1),
+      local_of_(mesh.positions.size(), -1) {}
 
 CoarsePatch PatchCutter::cut(std::span<const std::int32_t> seeds, int rings,
                              std::vector<std::int32_t>* ring_of) {
@@ -251,6 +300,10 @@ CoarsePatch PatchCutter::cut(std::span<const std::int32_t> seeds, int rings,
     patch.triangle_id.push_back(t);
     const auto& edges = topology_.triangle_edges(t);
     patch.triangle_edge_id.push_back({edges[0], edges[1], edges[2]});
+    if (!creases_.empty())
+      patch.triangle_edge_crease.push_back({creases_[std::size_t(edges[0])],
+                                            creases_[std::size_t(edges[1])],
+                                            creases_[std::size_t(edges[2])]});
     if (ring_of != nullptr)
       ring_of->push_back(ring[k]);
   }
@@ -273,15 +326,21 @@ RefinedPatch refine_patch(const CoarsePatch& patch, std::span<const RefinementSt
   std::iota(level.parent.begin(), level.parent.end(), 0);
   level.corner_weights.assign(patch.mesh.triangles.size(),
                               {Weights{1, 0, 0}, Weights{0, 1, 0}, Weights{0, 0, 1}});
+  level.crease = patch.triangle_edge_crease;
   for (const auto& step : steps)
     level = refine_once(level, step, ids);
-  return {std::move(level.mesh), std::move(level.id), std::move(level.parent)};
+  return {std::move(level.mesh), std::move(level.id), std::move(level.parent),
+          std::move(level.crease)};
 }
 
-TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps) {
-  if (steps.empty())
+TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps,
+                    std::span<const char> creases, std::vector<char>* fine_creases) {
+  if (steps.empty()) {
+    if (fine_creases != nullptr)
+      fine_creases->assign(creases.begin(), creases.end());
     return mesh;
-  const auto patch = CoarsePatch::whole(mesh);
+  }
+  const auto patch = CoarsePatch::whole(mesh, creases);
   const auto refined = refine_patch(patch, steps);
   const std::int64_t count = refined_vertex_count(patch.coarse_vertices, patch.coarse_edges,
                                                   mesh.num_triangles(), int(steps.size()));
@@ -295,6 +354,10 @@ TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> st
   for (auto& triangle : out.triangles)
     for (auto& v : triangle)
       v = std::int32_t(refined.vertex_id[v]);
+  if (fine_creases != nullptr)
+    *fine_creases = refined.triangle_edge_crease.empty()
+                        ? std::vector<char>()
+                        : edge_flags(MeshTopology(out), refined.triangle_edge_crease);
   return out;
 }
 

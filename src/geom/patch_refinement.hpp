@@ -17,6 +17,11 @@
 ///
 /// Loop rounds (Loop 1987, the masks CGAL's Loop_mask_3 uses) move every vertex by a mask over
 /// its one-ring, and sphere rounds put the edge midpoints back on a sphere (icosphere refinement).
+/// Crease edges, when given, take Hoppe et al.'s (1994) crease rules, the ones
+/// geom/loop_patch_basis evaluates: a crease is refined like a boundary (midpoints, cubic
+/// B-spline masks along it), a vertex on three or more sharp edges (crease or boundary) is a
+/// corner and stays, a vertex on one crease (a dart) is smooth. Both halves of a crease edge are
+/// creases again, so a CAD part's sharp edges stay sharp however often it is refined.
 /// Each mask adds its terms in increasing id order, so a vertex's bits depend only on its
 /// neighbours' bits. A vertex's position after R rounds depends on the coarse triangles that share
 /// a vertex with the coarse cell it lies on: a patch gives exact positions on the coarse triangles
@@ -34,6 +39,16 @@ namespace texsim::geom {
 
 /// One round of refinement: every triangle split into four at its edge midpoints, and where the
 /// vertices go.
+/// Three flags of a triangle, one per edge; entry i belongs to the edge opposite corner i.
+using EdgeFlags = std::array<char, 3>;
+
+/// Per triangle of `topology`'s mesh, the flags of its edges in `edge_flags` (per edge).
+std::vector<EdgeFlags> triangle_edge_flags(const MeshTopology& topology,
+                                           std::span<const char> edge_flags);
+/// Per edge of `topology`, set where a triangle flags it in `triangle_flags` (per triangle).
+std::vector<char> edge_flags(const MeshTopology& topology,
+                             std::span<const EdgeFlags> triangle_flags);
+
 struct RefinementStep {
   enum class Rule : std::int32_t {
     kLoop,  ///< Loop's masks: towards Loop's limit surface (C2 except at extraordinary vertices;
@@ -52,11 +67,14 @@ struct CoarsePatch {
   std::vector<std::int64_t> triangle_id; ///< coarse triangle id of each local triangle
   /// Coarse edge ids of each local triangle; entry i is the edge opposite corner i.
   std::vector<std::array<std::int64_t, 3>> triangle_edge_id;
+  /// Per local triangle, 1 where the edge opposite corner i is a crease; empty: no creases.
+  std::vector<EdgeFlags> triangle_edge_crease;
   std::int64_t coarse_vertices = 0; ///< V and E of the whole coarse mesh (the id layout)
   std::int64_t coarse_edges = 0;
 
-  /// The whole of `mesh` as one patch (edge ids from its MeshTopology).
-  static CoarsePatch whole(const TriangleMesh& mesh);
+  /// The whole of `mesh` as one patch (edge ids from its MeshTopology), with `creases` (per edge
+  /// of that topology, geom::crease_edges; empty for none).
+  static CoarsePatch whole(const TriangleMesh& mesh, std::span<const char> creases = {});
 };
 
 /// Cuts patches out of one coarse mesh: chosen triangles and the rings of triangles sharing a
@@ -64,8 +82,10 @@ struct CoarsePatch {
 /// O(ranks x mesh). Serial.
 class PatchCutter {
 public:
-  /// `mesh` and `topology` must outlive the cutter.
-  PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology);
+  /// `mesh`, `topology` and `creases` (per edge of `topology`, empty for none) must outlive the
+  /// cutter.
+  PatchCutter(const TriangleMesh& mesh, const MeshTopology& topology,
+              std::span<const char> creases = {});
 
   /// `seeds` (triangle ids) and `rings` rings around them, as a patch numbered by increasing
   /// triangle and vertex id. `ring_of`, when not null, gets each patch triangle's ring (0: a seed).
@@ -75,6 +95,7 @@ public:
 private:
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
+  std::span<const char> creases_;
   int cut_count_ = 0;
   // The last cut that met each triangle and vertex, and local vertex numbers.
   std::vector<int> triangle_stamp_;
@@ -86,6 +107,9 @@ struct RefinedPatch {
   TriangleMesh mesh;
   std::vector<std::int64_t> vertex_id; ///< hierarchical id of each vertex (see above)
   std::vector<std::int32_t> parent;    ///< local coarse triangle each fine triangle lies in
+  /// Crease flags of each fine triangle's edges (the halves of the coarse creases); empty when
+  /// the patch has none.
+  std::vector<EdgeFlags> triangle_edge_crease;
 };
 
 /// Number of vertices of the whole mesh after `rounds` rounds: V + E (n - 1) + T (n-1)(n-2)/2.
@@ -96,7 +120,10 @@ std::int64_t refined_vertex_count(std::int64_t vertices, std::int64_t edges, std
 /// Throws texsim::Error on an edge shared by more than two triangles. Serial.
 RefinedPatch refine_patch(const CoarsePatch& patch, std::span<const RefinementStep> steps);
 
-/// The whole mesh refined by `steps`, vertex i being the fine vertex of hierarchical id i. Serial.
-TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps);
+/// The whole mesh refined by `steps`, vertex i being the fine vertex of hierarchical id i, with
+/// `creases` (per edge of MeshTopology(mesh), empty for none) kept sharp; `fine_creases`, when
+/// not null, gets the fine mesh's (per edge of its MeshTopology). Serial.
+TriangleMesh refine(const TriangleMesh& mesh, std::span<const RefinementStep> steps,
+                    std::span<const char> creases = {}, std::vector<char>* fine_creases = nullptr);
 
 } // namespace texsim::geom

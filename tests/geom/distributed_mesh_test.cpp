@@ -4,6 +4,7 @@
 // update_halo brings the owners' values. Refined on the parts (Loop and sphere rounds), the
 // surface is the serial refinement's, bit for bit. At 1, 2 and 3 ranks, on generated spheres and
 // squares and on the raw scanned bunny (holes, boundary vertices).
+#include "geom/crease_edges.hpp"
 #include "geom/curvature_tensor.hpp"
 #include "geom/distributed_measures.hpp"
 #include "geom/distributed_mesh.hpp"
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <numeric>
+#include <span>
 
 namespace texsim::geom {
 namespace {
@@ -44,13 +46,15 @@ std::vector<RefinementStep> rounds(int count, RefinementStep step = {}) {
   return std::vector<RefinementStep>(std::size_t(count), step);
 }
 
-/// `coarse` distributed and refined by `refinement` on the ranks' parts, against the whole mesh
-/// refined serially.
+/// `coarse` distributed and refined by `refinement` on the ranks' parts with `creases` kept
+/// sharp, against the whole mesh refined serially.
 void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
-                     const std::vector<RefinementStep>& refinement = {}) {
+                     const std::vector<RefinementStep>& refinement = {},
+                     std::span<const char> creases = {}) {
   const par::Comm comm = par::world();
-  const DistributedMesh mesh(comm, coarse, method, refinement);
-  const TriangleMesh input = refine(coarse, refinement);
+  const DistributedMesh mesh(comm, coarse, method, refinement, creases);
+  std::vector<char> fine_creases;
+  const TriangleMesh input = refine(coarse, refinement, creases, &fine_creases);
   const std::int64_t n = input.num_vertices();
   ASSERT_EQ(mesh.global_count(), n);
   ASSERT_EQ(mesh.global_triangle_count(), input.num_triangles());
@@ -89,6 +93,19 @@ void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
 
   // The halo is complete: owned vertices, ghosts and the next ring keep all their triangles.
   const MeshTopology whole(input);
+
+  // Every edge the rank holds has the serial refinement's crease flag.
+  ASSERT_EQ(mesh.creases().empty(), fine_creases.empty());
+  if (!fine_creases.empty()) {
+    ASSERT_EQ(mesh.creases().size(), std::size_t(mesh.topology().num_edges()));
+    for (std::int32_t e = 0; e < mesh.topology().num_edges(); ++e) {
+      const auto [a, b] = mesh.topology().edges()[e];
+      const std::int32_t serial =
+          whole.find_edge(std::int32_t(mesh.input_id()[a]), std::int32_t(mesh.input_id()[b]));
+      ASSERT_EQ(mesh.creases()[std::size_t(e)], fine_creases[std::size_t(serial)])
+          << "edge " << mesh.input_id()[a] << "-" << mesh.input_id()[b];
+    }
+  }
   std::vector<int> depth(std::size_t(held), -1);
   std::vector<std::int32_t> ring(std::size_t(mesh.owned_count()));
   std::iota(ring.begin(), ring.end(), 0);
@@ -159,6 +176,11 @@ TEST(DistributedMesh, RefiningThePartsGivesTheSerialRefinement) {
   const RefinementStep on_sphere{RefinementStep::Rule::kSphere, {0, 0, 0}, 2.0};
   check_ownership(icosphere(1, 2.0), PartitionMethod::kMorton, rounds(3, on_sphere));
   check_ownership(noisy(plane(Vec3(1, 1, 0), 8), 0.05, 6), PartitionMethod::kMorton, rounds(2));
+  // A cube's edges as creases, their corners fixed: the parts keep them as the serial rounds do.
+  const auto cube = noisy(box(Vec3(1, 1, 1), 8), 0.03, 8);
+  const auto cube_creases = crease_edges(cube, MeshTopology(cube), 45.0);
+  check_ownership(cube, PartitionMethod::kScotch, rounds(2), cube_creases);
+  check_ownership(cube, PartitionMethod::kMorton, {}, cube_creases);
 }
 
 TEST(DistributedMesh, UpdateHaloBringsTheOwnersValues) {

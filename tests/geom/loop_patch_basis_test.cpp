@@ -7,6 +7,7 @@
 #include "geom/loop_box_spline.hpp"
 #include "geom/loop_patch_basis.hpp"
 #include "geom/loop_subdivision.hpp"
+#include "geom/patch_refinement.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,10 +33,11 @@ Vec3 patch_point(const TriangleMesh& mesh, const LoopPatchBasis& basis, std::int
   return point;
 }
 
-/// The limit points of `fine`'s vertices that lie on triangles (Loop's limit masks).
-std::vector<Vec3> limit_points(const TriangleMesh& fine) {
+/// The limit points of `fine`'s vertices that lie on triangles (Loop's limit masks, with the
+/// crease rules on `creases`).
+std::vector<Vec3> limit_points(const TriangleMesh& fine, std::span<const char> creases = {}) {
   const MeshTopology topology(fine);
-  const LoopPatchBasis basis(fine, topology);
+  const LoopPatchBasis basis(fine, topology, creases);
   std::vector<double> xyz;
   for (const auto& p : fine.positions)
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
@@ -48,6 +50,44 @@ std::vector<Vec3> limit_points(const TriangleMesh& fine) {
   return limit;
 }
 
+/// Expects the basis of `coarse` to give one of `limit` (to 1e-12) at every dyadic point of step
+/// 1/n of every triangle, with values summing to 1, except on the edges `sharp(a, b)` flags and
+/// at irregular triangles' corners, which no regular sub-triangle contains. Returns the number
+/// of points checked (stops at the first miss).
+template <class SharpEdge>
+int expect_limit_points_off_sharp_edges(const TriangleMesh& coarse, const LoopPatchBasis& basis,
+                                        const std::vector<Vec3>& limit, int n, SharpEdge sharp) {
+  int points = 0;
+  for (std::int32_t t = 0; t < coarse.num_triangles(); ++t) {
+    if (!basis.evaluable(t)) {
+      ADD_FAILURE() << "triangle " << t << " is not evaluable";
+      return points;
+    }
+    const auto [a, b, c] = coarse.triangles[std::size_t(t)];
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const bool corner = (i == 0 && j == 0) || i == n || j == n;
+        if ((corner && !basis.is_regular(t)) || (j == 0 && sharp(a, b)) ||
+            (i + j == n && sharp(b, c)) || (i == 0 && sharp(c, a)))
+          continue;
+        PatchBasisValues values;
+        basis.evaluate(t, double(i) / n, double(j) / n, values);
+        EXPECT_NEAR(std::accumulate(values.value.begin(), values.value.end(), 0.0), 1.0, 1e-13);
+        const Vec3 point = patch_point(coarse, basis, t, double(i) / n, double(j) / n);
+        double nearest = INFINITY;
+        for (const auto& q : limit)
+          nearest = std::min(nearest, (q - point).norm());
+        if (nearest >= 1e-12) {
+          ADD_FAILURE() << "triangle " << t << " at (" << i << ", " << j << ")/" << n << ": "
+                        << nearest << " from the nearest limit point";
+          return points;
+        }
+        ++points;
+      }
+  }
+  return points;
+}
+
 TEST(LoopPatchBasis, EqualsTheLimitOfLoopSubdivisionAtDyadicPoints) {
   // A level-1 icosphere has 20 regular triangles and 60 with a valence-5 corner; noise makes the
   // positions generic.
@@ -57,21 +97,14 @@ TEST(LoopPatchBasis, EqualsTheLimitOfLoopSubdivisionAtDyadicPoints) {
   const int rounds = 3, n = 1 << rounds;
   const std::vector<Vec3> limit = limit_points(loop_subdivide(coarse, rounds));
 
-  int regular = 0, irregular = 0;
-  for (std::int32_t t = 0; t < coarse.num_triangles(); ++t) {
-    (basis.is_regular(t) ? regular : irregular) += 1;
-    for (int i = 0; i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) {
-        const bool corner = (i == 0 && j == 0) || i == n || j == n;
-        if (corner && !basis.is_regular(t))
-          continue; // an extraordinary corner is never inside a regular sub-triangle
-        const Vec3 point = patch_point(coarse, basis, t, double(i) / n, double(j) / n);
-        double nearest = INFINITY;
-        for (const auto& q : limit)
-          nearest = std::min(nearest, (q - point).norm());
-        ASSERT_LT(nearest, 1e-12) << "triangle " << t << " at (" << i << ", " << j << ")/" << n;
-      }
-  }
+  int regular = 0;
+  for (std::int32_t t = 0; t < coarse.num_triangles(); ++t)
+    regular += basis.is_regular(t);
+  const auto no_sharp_edges = [](std::int32_t, std::int32_t) { return false; };
+  const int points = expect_limit_points_off_sharp_edges(coarse, basis, limit, n, no_sharp_edges);
+  // Every lattice point but the 3 corners of each of the 60 irregular triangles.
+  EXPECT_EQ(points, 80 * (n + 1) * (n + 2) / 2 - 60 * 3);
+  const int irregular = coarse.num_triangles() - regular;
   EXPECT_EQ(regular, 20);
   EXPECT_EQ(irregular, 60);
 }
@@ -174,34 +207,13 @@ TEST(LoopPatchBasis, BoundaryRulesEqualTheLimitOfLoopSubdivisionAtDyadicPoints) 
     const auto on_boundary = [&](std::int32_t a, std::int32_t b) {
       return boundary.count(std::minmax(a, b)) > 0;
     };
-    int at_boundary = 0, points = 0;
-    for (std::int32_t t = 0; t < coarse.num_triangles(); ++t) {
-      ASSERT_TRUE(basis.evaluable(t)) << "triangle " << t;
-      const auto [a, b, c] = coarse.triangles[std::size_t(t)];
-      const bool touches =
-          std::any_of(coarse.triangles[t].begin(), coarse.triangles[t].end(), [&](std::int32_t v) {
-            return std::any_of(boundary.begin(), boundary.end(), [&](const auto& edge) {
-              return edge.first == v || edge.second == v;
-            });
-          });
-      at_boundary += touches ? 1 : 0;
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-          const bool corner = (i == 0 && j == 0) || i == n || j == n;
-          if ((corner && !basis.is_regular(t)) || (j == 0 && on_boundary(a, b)) ||
-              (i + j == n && on_boundary(b, c)) || (i == 0 && on_boundary(c, a)))
-            continue; // never inside a regular sub-triangle
-          PatchBasisValues values;
-          basis.evaluate(t, double(i) / n, double(j) / n, values);
-          EXPECT_NEAR(std::accumulate(values.value.begin(), values.value.end(), 0.0), 1.0, 1e-13);
-          const Vec3 point = patch_point(coarse, basis, t, double(i) / n, double(j) / n);
-          double nearest = INFINITY;
-          for (const auto& q : limit)
-            nearest = std::min(nearest, (q - point).norm());
-          ASSERT_LT(nearest, 1e-12) << "triangle " << t << " at (" << i << ", " << j << ")/" << n;
-          ++points;
-        }
-    }
+    int at_boundary = 0;
+    for (const auto& triangle : coarse.triangles)
+      at_boundary += std::any_of(triangle.begin(), triangle.end(), [&](std::int32_t v) {
+        return std::any_of(boundary.begin(), boundary.end(),
+                           [&](const auto& edge) { return edge.first == v || edge.second == v; });
+      });
+    const int points = expect_limit_points_off_sharp_edges(coarse, basis, limit, n, on_boundary);
     EXPECT_GT(at_boundary, 4);
     EXPECT_GT(points, 30 * coarse.num_triangles());
   }
@@ -262,6 +274,56 @@ TEST(LoopPatchBasis, CreaseRulesKeepAFoldSharp) {
   // Crease classes get tables of their own: the structure names the creases.
   const std::int32_t at_fold = 6; // cell (3, 0): its right edge lies on the fold
   EXPECT_NE(sharp.structure(at_fold), smooth.structure(at_fold));
+
+  // geom::refine keeps the fold too: every fine vertex stays in one of the planes, and the
+  // fold's ends (two boundary edges and a crease: corners) do not move.
+  const std::vector<RefinementStep> rounds(3);
+  const auto off_planes = [](const TriangleMesh& fine) {
+    double most = 0;
+    for (const auto& p : fine.positions)
+      most = std::max(most, std::min(std::abs(p.x()), std::abs(p.z())));
+    return most;
+  };
+  const TriangleMesh refined_sharp = refine(mesh, rounds, creases);
+  EXPECT_LT(off_planes(refined_sharp), 1e-15);
+  EXPECT_GT(off_planes(refine(mesh, rounds)), 1e-2);
+  for (std::int32_t v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.positions[v].x() == 0 && mesh.positions[v].z() == 0 &&
+        (mesh.positions[v].y() == 0 || mesh.positions[v].y() == 1))
+      EXPECT_EQ(refined_sharp.positions[v], mesh.positions[v]) << "fold end " << v;
+}
+
+TEST(LoopPatchBasis, CreaseRulesEqualTheLimitOfCreasedLoopSubdivisionAtDyadicPoints) {
+  // A noisy cube: its 12 edges are creases meeting at 8 corners, and one more crease edge inside
+  // a face makes two darts. geom::refine keeps the creases through its rounds (their halves are
+  // creases again); the basis must give that subdivision's limit points at every dyadic point
+  // off the sharp edges.
+  const TriangleMesh coarse = noisy(box(Vec3(1, 1, 1), 3), 0.03, 4);
+  const MeshTopology topology(coarse);
+  std::vector<char> creases = crease_edges(coarse, topology, 45.0);
+  ASSERT_EQ(std::count(creases.begin(), creases.end(), 1), 36);
+  const auto touches_a_crease = [&](std::int32_t v) {
+    const auto ring = topology.vertex_neighbors().row(v);
+    return std::any_of(ring.begin(), ring.end(),
+                       [&](std::int32_t w) { return creases[topology.find_edge(v, w)] != 0; });
+  };
+  std::int32_t dart = 0;
+  while (touches_a_crease(topology.edges()[dart][0]) || touches_a_crease(topology.edges()[dart][1]))
+    ++dart;
+  creases[std::size_t(dart)] = 1;
+
+  const LoopPatchBasis basis(coarse, topology, creases);
+  const int rounds = 3, n = 1 << rounds;
+  std::vector<char> fine_creases;
+  const TriangleMesh fine =
+      refine(coarse, std::vector<RefinementStep>(rounds), creases, &fine_creases);
+  ASSERT_EQ(std::count(fine_creases.begin(), fine_creases.end(), 1), 37 * n);
+  const std::vector<Vec3> limit = limit_points(fine, fine_creases);
+  const auto sharp = [&](std::int32_t a, std::int32_t b) {
+    return creases[std::size_t(topology.find_edge(a, b))] != 0;
+  };
+  const int points = expect_limit_points_off_sharp_edges(coarse, basis, limit, n, sharp);
+  EXPECT_GT(points, 30 * coarse.num_triangles());
 }
 
 TEST(LoopPatchBasis, VerticesOfTwoFansAreNotEvaluable) {

@@ -83,7 +83,7 @@ void FemRdPipeline::run(RunContext& ctx) {
     // refines.
     auto stage = ctx.timers.scope("distribution");
     mesh = std::make_unique<geom::DistributedMesh>(comm, surface.coarse, settings_.partition,
-                                                   surface.refinement);
+                                                   surface.refinement, surface.creases);
     surface = {};
     if (settings_.mesh.noise_amplitude > 0)
       geom::add_normal_noise(*mesh, settings_.mesh.noise_amplitude, run.seed);

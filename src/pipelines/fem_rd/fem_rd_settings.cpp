@@ -11,8 +11,6 @@ FemRdSettings read_fem_rd_settings(const ConfigSection& section) {
 
   settings.rd.basis = section.choice<FemBasis>("basis", settings.rd.basis,
                                                {{"p1", FemBasis::kP1}, {"loop", FemBasis::kLoop}});
-  settings.rd.crease_angle_deg =
-      section.get<double>("crease_angle", settings.rd.crease_angle_deg, in_range(0.0, 180.0));
   const auto time = section.section("time");
   settings.steps = time.get<int>("steps", settings.steps, non_negative_int());
   settings.rd.dt = time.get<double>("dt", settings.rd.dt, positive());

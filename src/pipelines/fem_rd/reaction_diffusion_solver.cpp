@@ -3,7 +3,6 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/rng.hpp"
-#include "geom/crease_edges.hpp"
 #include "geom/distributed_measures.hpp"
 #include "geom/loop_patch_basis.hpp"
 #include "par/collective.hpp"
@@ -20,10 +19,9 @@ namespace {
 /// CounterRng stream of the probe's right-hand side.
 constexpr std::uint32_t kProbeStream = 0x7e57;
 
-std::unique_ptr<FemAssembler> make_assembler(const geom::DistributedMesh& mesh, FemBasis basis,
-                                             std::span<const char> creases) {
+std::unique_ptr<FemAssembler> make_assembler(const geom::DistributedMesh& mesh, FemBasis basis) {
   if (basis == FemBasis::kLoop)
-    return std::make_unique<LoopAssembler>(mesh, creases);
+    return std::make_unique<LoopAssembler>(mesh, mesh.creases());
   return std::make_unique<P1Assembler>(mesh);
 }
 } // namespace
@@ -34,10 +32,7 @@ ReactionDiffusionSolver::ReactionDiffusionSolver(const par::Comm& comm,
                                                  const RdOptions& options,
                                                  const std::optional<DiffusionFieldSettings>& field)
     : comm_(comm), mesh_(mesh), model_(model), options_(options),
-      creases_(options.basis == FemBasis::kLoop
-                   ? geom::crease_edges(mesh.mesh(), mesh.topology(), options.crease_angle_deg)
-                   : std::vector<char>()),
-      assembler_(make_assembler(mesh, options.basis, creases_)), names_(model.species()) {
+      assembler_(make_assembler(mesh, options.basis)), names_(model.species()) {
   if (field)
     field_ = std::make_unique<DiffusionField>(*field, names_);
   mass_ = assembler_->create_matrix(comm);
@@ -99,7 +94,7 @@ std::vector<double> ReactionDiffusionSolver::surface_values(std::size_t s) const
   if (options_.basis == FemBasis::kP1)
     return {local.begin(), local.end()};
   const std::vector<double> coefficients = on_whole_halo(s);
-  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology(), creases_);
+  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology(), mesh_.creases());
   std::vector<double> values(local.size());
   for (std::int32_t v = 0; v < mesh_.local_count(); ++v)
     basis.limit_value(v, coefficients, 1, std::span(values).subspan(std::size_t(v), 1));
@@ -111,7 +106,7 @@ std::vector<geom::Vec3> ReactionDiffusionSolver::surface_points() const {
   std::vector<geom::Vec3> points(positions.begin(), positions.begin() + mesh_.local_count());
   if (options_.basis == FemBasis::kP1)
     return points;
-  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology(), creases_);
+  const geom::LoopPatchBasis basis(mesh_.mesh(), mesh_.topology(), mesh_.creases());
   const std::span<const double> xyz(positions.front().data(), 3 * positions.size());
   for (std::int32_t v = 0; v < mesh_.local_count(); ++v)
     basis.limit_value(v, xyz, 3, std::span(points[std::size_t(v)].data(), 3));

@@ -44,7 +44,6 @@ struct RdOptions {
   double rtol = 1e-10;                                       ///< CG relative tolerance
   RdPreconditioner preconditioner = RdPreconditioner::kAuto; ///< fem_rd.solver.preconditioner
   FemBasis basis = FemBasis::kP1;                            ///< fem_rd.basis
-  double crease_angle_deg = 180.0; ///< fem_rd.crease_angle: Loop's crease edges (180: none)
 };
 
 class ReactionDiffusionSolver {
@@ -122,9 +121,6 @@ private:
   const geom::DistributedMesh& mesh_;
   const rd::ReactionModel& model_;
   RdOptions options_;
-  /// Loop: the crease edges of the initial surface (per local edge), which the basis keeps
-  /// while smoothing moves the surface.
-  std::vector<char> creases_;
   std::unique_ptr<FemAssembler> assembler_;
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<par::GhostedVector>> fields_;

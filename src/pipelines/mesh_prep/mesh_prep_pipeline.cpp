@@ -99,9 +99,12 @@ void MeshPrepPipeline::run(RunContext& ctx) {
   {
     auto stage = ctx.timers.scope("build");
     geom::MeshBuildReport built;
-    par::run_collectively(ctx.comm,
-                          [&] { mesh = geom::build_mesh(source_, ctx.settings.seed, &built); });
+    std::vector<char> creases;
+    par::run_collectively(
+        ctx.comm, [&] { mesh = geom::build_mesh(source_, ctx.settings.seed, &built, &creases); });
     geom::record_mesh_build(built, ctx.report);
+    // mesh.crease_angle's edges after subdivision: kept sharp by its crease rules.
+    ctx.report.metric("crease_edges", std::count(creases.begin(), creases.end(), 1));
     if (built.from_file)
       ctx.report.metric("repairs", built.repairs.changed() ? built.repairs.summary() : "none");
   }
