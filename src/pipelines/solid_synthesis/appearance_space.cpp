@@ -166,7 +166,8 @@ lane_dot(const float* a, const float* b, std::size_t n) {
 /// the circular cross-correlation R_c1c2(h (t2 - t1)) of the centred channels. Only the
 /// (2 window - 1)^3 distinct offsets (fewer once h wraps around the grid), half of them by
 /// R_c1c2(-o) = R_c2c1(o), are summed over the grid, as long contiguous dot products, instead of
-/// a (window^3 C)^2 product per voxel.
+/// a (window^3 C)^2 product per voxel. The grid is walked one z-slice at a time, with centred
+/// copies of only the slices that slice meets (one per z offset), not of the whole level.
 NeighbourhoodStatistics toroidal_statistics(const vol::ChannelGrid& level, int window,
                                             int spacing) {
   const vol::Dims dims = level.dims();
@@ -175,16 +176,6 @@ NeighbourhoodStatistics toroidal_statistics(const vol::ChannelGrid& level, int w
   const auto c_count = static_cast<std::size_t>(channels);
   const std::size_t voxels = level.voxel_count();
   const std::vector<double> mean = channel_mean(level, Box{{0, 0, 0}, n});
-
-  // Centred channels as planes.
-  std::vector<std::vector<float>> planes(c_count, std::vector<float>(voxels));
-#pragma omp parallel for schedule(static)
-  for (std::size_t v = 0; v < voxels; ++v) {
-    const auto value = level.voxel(v);
-    for (std::size_t c = 0; c < c_count; ++c) {
-      planes[c][v] = value[c] - static_cast<float>(mean[c]);
-    }
-  }
 
   // Distinct wrapped offsets per axis: offset_index[a][e + window - 1] for tap difference e, and
   // the index of the opposite offset.
@@ -216,52 +207,66 @@ NeighbourhoodStatistics toroidal_statistics(const vol::ChannelGrid& level, int w
 
   const auto nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
   const std::size_t slice = nx * ny;
-  std::vector<std::vector<float>> rolled(c_count, std::vector<float>(voxels));
-  for (std::size_t ox = 0; ox < nx_offsets; ++ox) {
-    // rolled[c] is planes[c] shifted by the x offset, so every offset with it becomes a plain
-    // elementwise product.
-    const auto shift = static_cast<std::size_t>(offsets[0][ox]);
+  using SlicePlanes = std::vector<std::vector<float>>; // [channel][voxel of the slice]
+  const auto centre_slice = [&](int z, SlicePlanes& out) {
+    const std::size_t first = static_cast<std::size_t>(z) * slice;
 #pragma omp parallel for schedule(static)
-    for (std::size_t row = 0; row < voxels / nx; ++row) {
+    for (std::size_t v = 0; v < slice; ++v) {
+      const auto value = level.voxel(first + v);
       for (std::size_t c = 0; c < c_count; ++c) {
-        const float* in = planes[c].data() + row * nx;
-        float* out = rolled[c].data() + row * nx;
-        std::copy(in + shift, in + nx, out);
-        std::copy(in, in + shift, out + (nx - shift));
+        out[c][v] = value[c] - static_cast<float>(mean[c]);
       }
     }
-    const auto tasks = static_cast<std::ptrdiff_t>(ny_offsets * nz_offsets);
-#pragma omp parallel for schedule(dynamic)
-    for (std::ptrdiff_t task = 0; task < tasks; ++task) {
-      const auto oz = static_cast<std::size_t>(task) % nz_offsets,
-                 oy = static_cast<std::size_t>(task) / nz_offsets;
-      if (combination(opposite[0][ox], opposite[1][oy], opposite[2][oz]) <
-          combination(ox, oy, oz)) {
-        continue; // filled in from the opposite offset below
+  };
+  SlicePlanes a_slice(c_count, std::vector<float>(slice));
+  // The slice z + offsets[2][oz] of each z offset, centred, and rolled along x by the x offset.
+  std::vector<SlicePlanes> b_slices(nz_offsets, a_slice), rolled(nz_offsets, a_slice);
+  const auto tasks = static_cast<std::ptrdiff_t>(ny_offsets * nz_offsets);
+  for (int z = 0; z < n[2]; ++z) {
+    centre_slice(z, a_slice);
+    for (std::size_t oz = 0; oz < nz_offsets; ++oz) {
+      centre_slice(vol::ChannelGrid::wrap(z + offsets[2][oz], n[2]), b_slices[oz]);
+    }
+    for (std::size_t ox = 0; ox < nx_offsets; ++ox) {
+      // Rolled by the x offset, every offset with it becomes a plain elementwise product.
+      const auto shift = static_cast<std::size_t>(offsets[0][ox]);
+      const auto rows = static_cast<std::ptrdiff_t>(nz_offsets * ny);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t task = 0; task < rows; ++task) {
+        const auto oz = static_cast<std::size_t>(task) / ny,
+                   row = static_cast<std::size_t>(task) % ny;
+        for (std::size_t c = 0; c < c_count; ++c) {
+          const float* in = b_slices[oz][c].data() + row * nx;
+          float* out = rolled[oz][c].data() + row * nx;
+          std::copy(in + shift, in + nx, out);
+          std::copy(in, in + shift, out + (nx - shift));
+        }
       }
-      const auto sy = static_cast<std::size_t>(offsets[1][oy]);
-      const int sz = offsets[2][oz];
-      // Rows y < ny - sy meet rows y + sy of the same slice, the others wrap to its start.
-      const std::size_t straight = (ny - sy) * nx;
-      double* sums = correlation.data() + combination(ox, oy, oz) * pairs;
-      // Slice by slice, all channel pairs at once: the slices stay in cache.
-      for (int z = 0; z < n[2]; ++z) {
-        const std::size_t a_start = static_cast<std::size_t>(z) * slice;
-        const std::size_t b_start =
-            static_cast<std::size_t>(vol::ChannelGrid::wrap(z + sz, n[2])) * slice;
+#pragma omp parallel for schedule(dynamic)
+      for (std::ptrdiff_t task = 0; task < tasks; ++task) {
+        const auto oz = static_cast<std::size_t>(task) % nz_offsets,
+                   oy = static_cast<std::size_t>(task) / nz_offsets;
+        if (combination(opposite[0][ox], opposite[1][oy], opposite[2][oz]) <
+            combination(ox, oy, oz)) {
+          continue; // filled in from the opposite offset below
+        }
+        const auto sy = static_cast<std::size_t>(offsets[1][oy]);
+        // Rows y < ny - sy meet rows y + sy of the same slice, the others wrap to its start.
+        const std::size_t straight = (ny - sy) * nx;
+        double* sums = correlation.data() + combination(ox, oy, oz) * pairs;
         for (std::size_t c1 = 0; c1 < c_count; ++c1) {
-          const float* a = planes[c1].data() + a_start;
+          const float* a = a_slice[c1].data();
           for (std::size_t c2 = 0; c2 < c_count; ++c2) {
-            const float* b = rolled[c2].data() + b_start;
+            const float* b = rolled[oz][c2].data();
             sums[c1 * c_count + c2] +=
                 lane_dot(a, b + sy * nx, straight) + lane_dot(a + straight, b, sy * nx);
           }
         }
       }
-      for (std::size_t pair = 0; pair < pairs; ++pair) {
-        sums[pair] /= static_cast<double>(voxels);
-      }
     }
+  }
+  for (double& sum : correlation) {
+    sum /= static_cast<double>(voxels);
   }
   for (std::size_t ox = 0; ox < nx_offsets; ++ox) {
     for (std::size_t oy = 0; oy < ny_offsets; ++oy) {
@@ -462,8 +467,9 @@ add_taps(float* acc, const float* row, const float* weights, int taps, int spaci
 /// Appearance vectors of the box's voxels in x rows [rows.first, rows.second) (row y + ny z of the
 /// box), written into `features` (those rows only, row rows.first first), one x row at a time: (x -
 /// mean) B is accumulated from the centred level's rows, padded along x by the taps' reach (wrapped
-/// or clamped) so every tap reads them contiguously; only the planes the asked rows' taps read are
-/// copied. Each vector is summed in the same order on any thread and whichever rows are asked for.
+/// or clamped) so every tap reads them contiguously; only the planes one box plane's taps read are
+/// held at a time. Each vector is summed in the same order on any thread and whichever rows are
+/// asked for.
 void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, bool periodic,
                    const std::vector<float>& centre, const AppearanceLevel& appearance,
                    std::pair<std::ptrdiff_t, std::ptrdiff_t> rows, std::span<float> features) {
@@ -497,75 +503,68 @@ void project_level(const vol::ChannelGrid& level, const Box& box, int spacing, b
   const auto coordinate = [&](std::size_t axis, int q) {
     return periodic ? vol::ChannelGrid::wrap(q, n[axis]) : vol::ChannelGrid::clamp(q, n[axis]);
   };
-  // Only the z-planes that the taps of the asked rows read are padded (plane_slot[z], -1 for
-  // the others): a rank's share of a level, not the whole level.
-  // padded[c][(slot(z) * ny + y) * width + e] = level(x(e), y, z)[c] - centre[c], x(e) = lo -
-  // reach + e.
-  std::vector<int> plane_slot(static_cast<std::size_t>(n[2]), -1);
-  std::vector<int> slot_plane;
-  if (rows.second > rows.first) {
-    const int z_first = box.lo[2] + static_cast<int>(rows.first / box.size[1]);
-    const int z_last = box.lo[2] + static_cast<int>((rows.second - 1) / box.size[1]);
-    for (int z = z_first; z <= z_last; ++z)
-      for (int tz = 0; tz < window; ++tz)
-        plane_slot[static_cast<std::size_t>(coordinate(2, z + (tz - window / 2) * spacing))] = 0;
-    for (int z = 0; z < n[2]; ++z)
-      if (plane_slot[static_cast<std::size_t>(z)] == 0) {
-        plane_slot[static_cast<std::size_t>(z)] = static_cast<int>(slot_plane.size());
-        slot_plane.push_back(z);
-      } else {
-        plane_slot[static_cast<std::size_t>(z)] = -1;
-      }
-  }
+  if (rows.second <= rows.first)
+    return;
+  // One z-plane of the box at a time, from the `window` planes its taps read, centred and padded:
+  // padded[c][(tz * ny + y) * width + e] = level(x(e), y, z + (tz - window / 2) spacing)[c] -
+  // centre[c], x(e) = lo - reach + e. A coarse level's taps reach far in z and x; padding the
+  // planes of all the asked rows at once would hold most of the level, twice as wide.
+  const auto ny = static_cast<std::size_t>(n[1]);
   const auto length = static_cast<std::size_t>(box.size[0]);
   const std::size_t width = length + 2 * static_cast<std::size_t>(reach);
-  const auto padded_rows = static_cast<std::ptrdiff_t>(slot_plane.size()) * n[1];
+  const auto padded_rows = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(window) * ny);
   std::vector<std::vector<float>> padded(
       c_count, std::vector<float>(static_cast<std::size_t>(padded_rows) * width));
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t row = 0; row < padded_rows; ++row) {
-    const std::size_t row_start = level.index(0, static_cast<int>(row % n[1]),
-                                              slot_plane[static_cast<std::size_t>(row / n[1])]);
-    for (std::size_t e = 0; e < width; ++e) {
-      const auto x =
-          static_cast<std::size_t>(coordinate(0, box.lo[0] - reach + static_cast<int>(e)));
-      const auto v = level.voxel(row_start + x);
-      for (std::size_t c = 0; c < c_count; ++c) {
-        padded[c][static_cast<std::size_t>(row) * width + e] = v[c] - centre[c];
-      }
-    }
-  }
+  const auto box_rows_per_plane = static_cast<std::ptrdiff_t>(box.size[1]);
+  const std::ptrdiff_t first_plane = rows.first / box_rows_per_plane;
+  const std::ptrdiff_t last_plane = (rows.second - 1) / box_rows_per_plane;
 
 #pragma omp parallel
   {
     std::vector<float> acc(dimensions * length);
+    for (std::ptrdiff_t plane = first_plane; plane <= last_plane; ++plane) {
+      const int z = box.lo[2] + static_cast<int>(plane);
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t row = rows.first; row < rows.second; ++row) {
-      const int y = box.lo[1] + static_cast<int>(row % box.size[1]);
-      const int z = box.lo[2] + static_cast<int>(row / box.size[1]);
-      std::fill(acc.begin(), acc.end(), 0.0f);
-      for (int tz = 0; tz < window; ++tz) {
-        const int sz =
-            plane_slot[static_cast<std::size_t>(coordinate(2, z + (tz - window / 2) * spacing))];
-        for (int ty = 0; ty < window; ++ty) {
-          const int sy = coordinate(1, y + (ty - window / 2) * spacing);
-          const std::size_t source_row =
-              static_cast<std::size_t>(sz) * static_cast<std::size_t>(n[1]) +
-              static_cast<std::size_t>(sy);
+      for (std::ptrdiff_t row = 0; row < padded_rows; ++row) {
+        const auto tz = static_cast<int>(static_cast<std::size_t>(row) / ny);
+        const std::size_t row_start =
+            level.index(0, static_cast<int>(static_cast<std::size_t>(row) % ny),
+                        coordinate(2, z + (tz - window / 2) * spacing));
+        for (std::size_t e = 0; e < width; ++e) {
+          const auto x =
+              static_cast<std::size_t>(coordinate(0, box.lo[0] - reach + static_cast<int>(e)));
+          const auto v = level.voxel(row_start + x);
           for (std::size_t c = 0; c < c_count; ++c) {
-            const auto g = static_cast<std::size_t>((tz * window + ty) * channels) + c;
-            add_taps(acc.data(), padded[c].data() + source_row * width,
-                     tap_weights.data() + g * static_cast<std::size_t>(window) * dimensions, window,
-                     spacing, dimensions, length);
+            padded[c][static_cast<std::size_t>(row) * width + e] = v[c] - centre[c];
           }
         }
       }
-      float* row_out =
-          features.data() + static_cast<std::size_t>(row - rows.first) * length * dimensions;
-      for (std::size_t i = 0; i < length; ++i) {
-        float* out = row_out + i * dimensions;
-        for (std::size_t q = 0; q < dimensions; ++q) {
-          out[q] = acc[q * length + i] - offset(static_cast<Eigen::Index>(q));
+      const std::ptrdiff_t plane_rows_end = std::min(rows.second, (plane + 1) * box_rows_per_plane);
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t row = std::max(rows.first, plane * box_rows_per_plane);
+           row < plane_rows_end; ++row) {
+        const int y = box.lo[1] + static_cast<int>(row % box_rows_per_plane);
+        std::fill(acc.begin(), acc.end(), 0.0f);
+        for (int tz = 0; tz < window; ++tz) {
+          for (int ty = 0; ty < window; ++ty) {
+            const auto sy =
+                static_cast<std::size_t>(coordinate(1, y + (ty - window / 2) * spacing));
+            const std::size_t source_row = static_cast<std::size_t>(tz) * ny + sy;
+            for (std::size_t c = 0; c < c_count; ++c) {
+              const auto g = static_cast<std::size_t>((tz * window + ty) * channels) + c;
+              add_taps(acc.data(), padded[c].data() + source_row * width,
+                       tap_weights.data() + g * static_cast<std::size_t>(window) * dimensions,
+                       window, spacing, dimensions, length);
+            }
+          }
+        }
+        float* row_out =
+            features.data() + static_cast<std::size_t>(row - rows.first) * length * dimensions;
+        for (std::size_t i = 0; i < length; ++i) {
+          float* out = row_out + i * dimensions;
+          for (std::size_t q = 0; q < dimensions; ++q) {
+            out[q] = acc[q * length + i] - offset(static_cast<Eigen::Index>(q));
+          }
         }
       }
     }

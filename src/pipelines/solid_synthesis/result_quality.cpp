@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "img/colour_histogram.hpp"
 #include "par/gather_to_root.hpp"
+#include "par/node_shared_array.hpp"
 #include "pipelines/solid_synthesis/correction_stencil.hpp"
 #include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
@@ -94,7 +95,9 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
                             std::span<float>(queries).subspan(s * dimension, dimension));
     }
   }
-  const std::vector<double> mine = nearest_appearance_distances(queries, finest.features);
+  // One tree per node, built once: every rank searches the same exemplar features.
+  const FeatureKdTree tree(finest.features, par::NodeLayout::make(comm));
+  const std::vector<double> mine = nearest_appearance_distances(queries, finest.features, tree);
   // Added on rank 0 in rank order, the volume's order: the same sum for any rank count.
   const std::vector<double> all = par::gather_to_root(comm, std::span<const double>(mine));
   double error = 0.0;

@@ -66,25 +66,12 @@ double luminance(std::span<const float> colour) {
                             : 0.2126 * colour[0] + 0.7152 * colour[1] + 0.0722 * colour[2];
 }
 
-} // namespace
-
-double appearance_spread(const vol::ChannelGrid& exemplar_features) {
-  const double spread = mean_spread(exemplar_features.data(), exemplar_features.channels());
-  TEXSIM_VERIFY(spread > 0.0, "neighbourhood_error: the exemplar's appearance vectors are all "
-                              "equal, so the error has no scale");
-  return spread;
-}
-
-std::vector<double> nearest_appearance_distances(std::span<const float> queries,
-                                                 const vol::ChannelGrid& exemplar_features) {
+/// Nearest distances through `tree`, or by scanning every voxel when it is null.
+std::vector<double> nearest_distances(std::span<const float> queries,
+                                      const vol::ChannelGrid& exemplar_features,
+                                      const FeatureKdTree* tree) {
   const int dimension = exemplar_features.channels();
   const auto count = static_cast<std::int64_t>(queries.size() / std::size_t(dimension));
-  // Exact nearest neighbours through the kd-tree the similarity sets use: on appearance features
-  // it visits a few hundred of the exemplar's voxels per query instead of all of them. Wider
-  // vectors (raw neighbourhoods) than the tree indexes are scanned in full.
-  const bool indexed = dimension <= FeatureKdTree::kMaxChannels;
-  const std::optional<FeatureKdTree> tree =
-      indexed ? std::optional<FeatureKdTree>(exemplar_features) : std::nullopt;
   std::vector<double> distances(static_cast<std::size_t>(count));
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::int64_t q = 0; q < count; ++q) {
@@ -98,6 +85,32 @@ std::vector<double> nearest_appearance_distances(std::span<const float> queries,
     distances[std::size_t(q)] = std::sqrt(nearest.nearest());
   }
   return distances;
+}
+
+} // namespace
+
+double appearance_spread(const vol::ChannelGrid& exemplar_features) {
+  const double spread = mean_spread(exemplar_features.data(), exemplar_features.channels());
+  TEXSIM_VERIFY(spread > 0.0, "neighbourhood_error: the exemplar's appearance vectors are all "
+                              "equal, so the error has no scale");
+  return spread;
+}
+
+std::vector<double> nearest_appearance_distances(std::span<const float> queries,
+                                                 const vol::ChannelGrid& exemplar_features) {
+  // Exact nearest neighbours through the kd-tree the similarity sets use: on appearance features
+  // it visits a few hundred of the exemplar's voxels per query instead of all of them. Wider
+  // vectors (raw neighbourhoods) than the tree indexes are scanned in full.
+  if (exemplar_features.channels() > FeatureKdTree::kMaxChannels)
+    return nearest_distances(queries, exemplar_features, nullptr);
+  const FeatureKdTree tree(exemplar_features);
+  return nearest_distances(queries, exemplar_features, &tree);
+}
+
+std::vector<double> nearest_appearance_distances(std::span<const float> queries,
+                                                 const vol::ChannelGrid& exemplar_features,
+                                                 const FeatureKdTree& tree) {
+  return nearest_distances(queries, exemplar_features, &tree);
 }
 
 double neighbourhood_error(const vol::ChannelGrid& result_colours,

@@ -2,6 +2,7 @@
 /// Quality measures of a synthesized solid texture against its exemplar, for run reports and
 /// tests: how well its neighbourhoods match the exemplar's (the quantity the synthesis
 /// minimises), how close its colour distribution is, and which way its stripes run.
+#include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 #include "vol/channel_grid.hpp"
 
 #include <functional>
@@ -35,6 +36,10 @@ double appearance_spread(const vol::ChannelGrid& exemplar_features);
 /// other queries it is asked with and however many threads share them.
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features);
+/// The same distances through `tree`, built over `exemplar_features` (one held per node, say).
+std::vector<double> nearest_appearance_distances(std::span<const float> queries,
+                                                 const vol::ChannelGrid& exemplar_features,
+                                                 const FeatureKdTree& tree);
 
 /// Total variation distance (0..1) between the joint colour histograms (8 bins per channel,
 /// values clamped to [0, 1]) of two grids with the same channel count (1 to 4); the grids may have
