@@ -1,12 +1,13 @@
 // turk_rd's render mesh is Loop-refined on each rank's share of the input only: over all ranks
-// every fine triangle of loop_subdivide(input) is written exactly once, with the same position
-// bits, and each piece's ring holds the triangles around its written ones, also bit for bit. At 1,
-// 2 and 3 ranks, on a noisy sphere, an open noisy square (boundary masks) and the raw bunny with
-// its holes.
+// every fine triangle of the whole input's refinement is written exactly once, with the same
+// position bits, and each piece's ring holds the triangles around its written ones, also bit for
+// bit. At 1, 2 and 3 ranks, on a noisy sphere, an open noisy square (boundary masks), a noisy cube
+// with creases and the raw bunny with its holes.
+#include "geom/crease_edges.hpp"
 #include "geom/generators.hpp"
-#include "geom/loop_subdivision.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/patch_refinement.hpp"
 #include "par/record_exchange.hpp"
 #include "pipelines/turk_rd/render_piece.hpp"
 #include "support/test_data.hpp"
@@ -16,6 +17,8 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <span>
+#include <vector>
 
 namespace texsim::pipelines::turk_rd {
 namespace {
@@ -36,9 +39,9 @@ PlacedTriangle placed(const geom::TriangleMesh& mesh, const geom::Triangle& tria
   return out;
 }
 
-void check_pieces(const geom::TriangleMesh& input, int levels) {
+void check_pieces(const geom::TriangleMesh& input, int levels, std::span<const char> creases = {}) {
   const par::Comm comm = par::world();
-  const RenderPiece piece = make_render_piece(comm, input, levels);
+  const RenderPiece piece = make_render_piece(comm, input, creases, levels);
   std::vector<PlacedTriangle> mine;
   for (std::size_t t = 0; t < piece.written_triangles; ++t)
     mine.push_back(placed(piece.mesh, piece.mesh.triangles[t]));
@@ -47,7 +50,8 @@ void check_pieces(const geom::TriangleMesh& input, int levels) {
     ASSERT_EQ(piece.written_vertices[std::size_t(piece.written_connectivity[k])],
               piece.mesh.triangles[k / 3][k % 3]);
   // The ring: every triangle of the fine mesh around a written vertex is in the piece.
-  const geom::TriangleMesh whole = geom::loop_subdivide(input, levels);
+  const geom::TriangleMesh whole =
+      geom::refine(input, std::vector<geom::RefinementStep>(std::size_t(levels)), creases);
   const geom::MeshTopology whole_topology(whole);
   const geom::MeshTopology piece_topology(piece.mesh);
   std::map<std::array<double, 3>, std::size_t> fan_of; // triangles around each fine vertex
@@ -79,6 +83,13 @@ TEST(RenderPiece, RefinedSharesMakeTheWholeSubdividedSurface) {
     check_pieces(sphere, levels);
     check_pieces(square, levels);
   }
+}
+
+TEST(RenderPiece, CreasesStaySharpPieceByPiece) {
+  // A cube's edges as creases (mesh.crease_angle): the pieces are the whole creased refinement's.
+  const auto cube = geom::noisy(geom::box(geom::Vec3(1, 1, 1), 4), 0.03, 5);
+  const auto creases = geom::crease_edges(cube, geom::MeshTopology(cube), 45.0);
+  check_pieces(cube, 2, creases);
 }
 
 TEST(RenderPieceOnRealData, TheRawBunnyRefinesPieceByPiece) {

@@ -12,7 +12,7 @@
 namespace texsim::pipelines::turk_rd {
 
 RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                              int subdivision_levels) {
+                              std::span<const char> creases, int subdivision_levels) {
   RenderPiece piece;
   // Each rank refines only its share of the input (the input triangles of its run along a Morton
   // curve of their centroids) and one ring of input triangles around it. The fine triangles one
@@ -27,7 +27,7 @@ RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& i
       share.push_back(std::int32_t(t));
   std::vector<std::int32_t> ring_of;
   const geom::CoarsePatch patch =
-      geom::PatchCutter(input_mesh, input_topology).cut(share, 1, &ring_of);
+      geom::PatchCutter(input_mesh, input_topology, creases).cut(share, 1, &ring_of);
   geom::RefinedPatch fine;
   par::run_collectively(comm, [&] {
     try {

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::turk_rd {
@@ -20,10 +21,11 @@ struct RenderPiece {
   std::vector<std::int64_t> written_connectivity; ///< 3 indices into written_vertices each
 };
 
-/// The piece of this rank. Every fine triangle is written by exactly one rank, with the position
-/// bits of geom::loop_subdivide on the whole input. InputError (on every rank) when the input
-/// cannot be Loop-subdivided. Collective.
+/// The piece of this rank, `creases` (per edge of MeshTopology(input_mesh), empty for none) kept
+/// sharp. Every fine triangle is written by exactly one rank, with the position bits of
+/// geom::refine on the whole input. InputError (on every rank) when the input cannot be
+/// Loop-subdivided. Collective.
 RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                              int subdivision_levels);
+                              std::span<const char> creases, int subdivision_levels);
 
 } // namespace texsim::pipelines::turk_rd

@@ -250,11 +250,12 @@ void TurkRdPipeline::run(RunContext& ctx) {
   auto& report = ctx.report;
 
   geom::TriangleMesh surface;
+  std::vector<char> creases; // mesh.crease_angle's, kept sharp by render.subdivision_levels
   {
     auto stage = ctx.timers.scope("mesh");
     geom::MeshBuildReport built;
-    par::run_collectively(comm,
-                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
+    par::run_collectively(
+        comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built, &creases); });
     geom::record_mesh_build(built, report);
   }
   const geom::MeshTopology topology(surface);
@@ -333,8 +334,8 @@ void TurkRdPipeline::run(RunContext& ctx) {
       log::info(log::cat("restarted from ", reader.path().string(), " in stage '",
                          stages[state.stage].name, "' after ", state.stage_step, " steps"));
     }
-    frames = std::make_unique<PatternFrames>(comm, surface, cells, settings_.render, run.output_dir,
-                                             restart_time);
+    frames = std::make_unique<PatternFrames>(comm, surface, creases, cells, settings_.render,
+                                             run.output_dir, restart_time);
   }
 
   FieldMap earlier; // "<stage>_<species>" of finished stages
