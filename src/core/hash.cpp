@@ -4,8 +4,8 @@
 
 namespace texsim {
 
-std::uint64_t fnv1a64(std::string_view text) {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
+std::uint64_t fnv1a64(std::string_view text, std::uint64_t state) {
+  std::uint64_t hash = state;
   for (unsigned char c : text) {
     hash ^= c;
     hash *= 0x100000001b3ULL;

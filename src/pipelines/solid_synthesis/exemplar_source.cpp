@@ -107,11 +107,12 @@ vol::RgbGrid generate(const ExemplarSettings& s) {
 
 std::string content_hash(const vol::ChannelGrid& colours) {
   const vol::Dims d = colours.dims();
-  std::string bytes = std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" +
-                      std::to_string(d.nz) + "x" + std::to_string(colours.channels()) + ":";
+  const std::string header = std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" +
+                             std::to_string(d.nz) + "x" + std::to_string(colours.channels()) + ":";
   const auto values = colours.data();
-  bytes.append(reinterpret_cast<const char*>(values.data()), values.size_bytes());
-  return hex64(fnv1a64(bytes));
+  return hex64(
+      fnv1a64(std::string_view(reinterpret_cast<const char*>(values.data()), values.size_bytes()),
+              fnv1a64(header)));
 }
 
 } // namespace

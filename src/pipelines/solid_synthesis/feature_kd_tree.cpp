@@ -7,8 +7,7 @@
 #include <array>
 #include <cstring>
 #include <limits>
-#include <optional>
-#include <type_traits>
+#include <span>
 #include <utility>
 
 namespace texsim::pipelines::solid_synthesis {
@@ -23,56 +22,85 @@ constexpr int kMaxDepth = 40;
 
 } // namespace
 
-/// The tree's arrays as one rank builds them.
+/// The lengths of the tree's arrays over `voxel_count` voxels: fixed before the build, since median
+/// splits down to single lane blocks make a full binary tree of 2 chunks - 1 nodes.
+struct TreeSizes {
+  std::size_t lane_values = 0, voxels = 0, nodes = 0, box_values = 0;
+
+  TreeSizes(std::int64_t voxel_count, int channels, int box_width) {
+    TEXSIM_VERIFY(channels >= 1 && channels <= FeatureKdTree::kMaxChannels && voxel_count > 0 &&
+                      voxel_count <= std::numeric_limits<std::int32_t>::max(),
+                  "feature kd-tree: " << voxel_count << " voxels of " << channels
+                                      << " channels cannot be indexed");
+    const auto chunks = static_cast<std::size_t>((voxel_count + kLanes - 1) / kLanes);
+    lane_values = chunks * kLanes * static_cast<std::size_t>(channels);
+    voxels = chunks * kLanes;
+    nodes = 2 * chunks - 1;
+    box_values = nodes * 2 * static_cast<std::size_t>(box_width);
+  }
+};
+
+/// The tree's arrays held by one rank.
 struct FeatureKdTree::Arrays {
-  int channels = 0;
-  int box_width = 0;
   std::vector<float> lane_blocks;
   std::vector<std::int32_t> voxels;
   std::vector<Node> nodes;
   std::vector<float> boxes;
 
-  Arrays() = default;
-  Arrays(const vol::ChannelGrid& features, int box_width_)
-      : channels(features.channels()), box_width(box_width_) {
-    const auto voxel_count = static_cast<std::int64_t>(features.voxel_count());
-    TEXSIM_VERIFY(channels >= 1 && channels <= kMaxChannels && voxel_count > 0 &&
-                      voxel_count <= std::numeric_limits<std::int32_t>::max(),
-                  "feature kd-tree: " << voxel_count << " voxels of " << channels
-                                      << " channels cannot be indexed");
-    const std::int64_t chunks = (voxel_count + kLanes - 1) / kLanes;
-    lane_blocks.assign(static_cast<std::size_t>(chunks * kLanes * channels),
-                       std::numeric_limits<float>::infinity()); // padding lanes never hit
-    voxels.assign(static_cast<std::size_t>(chunks * kLanes), -1);
-    std::vector<std::int32_t> order(static_cast<std::size_t>(voxel_count));
+  explicit Arrays(const TreeSizes& sizes)
+      : lane_blocks(sizes.lane_values), voxels(sizes.voxels), nodes(sizes.nodes),
+        boxes(sizes.box_values) {}
+};
+
+/// The tree's arrays held once per node.
+struct FeatureKdTree::SharedArrays {
+  par::NodeSharedBytes lane_blocks, voxels, nodes, boxes;
+
+  SharedArrays(const std::shared_ptr<const par::NodeLayout>& layout, const TreeSizes& sizes)
+      : lane_blocks(layout, sizes.lane_values * sizeof(float)),
+        voxels(layout, sizes.voxels * sizeof(std::int32_t)),
+        nodes(layout, sizes.nodes * sizeof(Node)), boxes(layout, sizes.box_values * sizeof(float)) {
+  }
+};
+
+/// Builds the tree into arrays of TreeSizes' lengths (their previous contents do not matter).
+struct FeatureKdTree::Builder {
+  const vol::ChannelGrid& features;
+  int box_width;
+  std::span<float> lane_blocks;
+  std::span<std::int32_t> voxels;
+  std::span<Node> nodes;
+  std::span<float> boxes;
+  std::vector<std::int32_t> order{};
+  std::size_t next_node = 1;
+
+  void build() {
+    std::fill(lane_blocks.begin(), lane_blocks.end(),
+              std::numeric_limits<float>::infinity()); // padding lanes never hit
+    std::fill(voxels.begin(), voxels.end(), -1);
+    std::fill(nodes.begin(), nodes.end(), Node{});
+    std::fill(boxes.begin(), boxes.end(), 0.0f); // padding channels stay 0
+    order.resize(features.voxel_count());
     for (std::size_t v = 0; v < order.size(); ++v)
       order[v] = static_cast<std::int32_t>(v);
-    nodes.reserve(static_cast<std::size_t>(2 * chunks));
-    nodes.emplace_back();
-    boxes.resize(static_cast<std::size_t>(2 * box_width)); // padding channels stay 0
-    build_node(0, features, order, 0, chunks, 0);
+    build_node(0, 0, static_cast<std::int64_t>(voxels.size() / kLanes), 0);
+    TEXSIM_VERIFY(next_node == nodes.size(),
+                  "feature kd-tree: " << next_node << " nodes built, " << nodes.size() << " sized");
   }
 
   /// Fills node `node` with the voxels order[16 chunk_begin, min(16 chunk_end, voxel count)),
   /// split at the median of their widest channel until one lane block is left.
-  void build_node(std::int32_t node, const vol::ChannelGrid& features,
-                  std::vector<std::int32_t>& order, std::int64_t chunk_begin,
-                  std::int64_t chunk_end, int depth);
-};
-
-/// The arrays held once per node.
-struct FeatureKdTree::SharedArrays {
-  par::NodeSharedArray<float> lane_blocks;
-  par::NodeSharedArray<std::int32_t> voxels;
-  par::NodeSharedArray<Node> nodes;
-  par::NodeSharedArray<float> boxes;
+  void build_node(std::size_t node, std::int64_t chunk_begin, std::int64_t chunk_end, int depth);
 };
 
 FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features)
     : channels_(features.channels()),
       box_width_((features.channels() + kGroup - 1) / kGroup * kGroup),
       float_bound_(features.channels()) {
-  auto arrays = std::make_shared<const Arrays>(features, box_width_);
+  auto arrays = std::make_shared<Arrays>(
+      TreeSizes(static_cast<std::int64_t>(features.voxel_count()), channels_, box_width_));
+  Builder{features, box_width_, arrays->lane_blocks, arrays->voxels, arrays->nodes, arrays->boxes}
+      .build();
   lane_blocks_ = arrays->lane_blocks;
   voxels_ = arrays->voxels;
   nodes_ = arrays->nodes;
@@ -80,41 +108,48 @@ FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features)
   storage_ = std::move(arrays);
 }
 
+namespace {
+
+template <class T> std::span<T> as_span(const par::NodeSharedBytes& bytes) {
+  return {reinterpret_cast<T*>(bytes.bytes().data()), bytes.bytes().size() / sizeof(T)};
+}
+
+} // namespace
+
 FeatureKdTree::FeatureKdTree(const vol::ChannelGrid& features,
                              std::shared_ptr<const par::NodeLayout> layout)
     : channels_(features.channels()),
       box_width_((features.channels() + kGroup - 1) / kGroup * kGroup),
       float_bound_(features.channels()) {
-  // Rank 0 builds; its vectors are freed once they are in the node windows. An error there (a
-  // grid the tree cannot index) reaches every rank.
-  std::optional<Arrays> built;
+  auto shared = std::make_shared<SharedArrays>(
+      layout, TreeSizes(static_cast<std::int64_t>(features.voxel_count()), channels_, box_width_));
+  const auto lane_blocks = as_span<float>(shared->lane_blocks);
+  const auto voxels = as_span<std::int32_t>(shared->voxels);
+  const auto nodes = as_span<Node>(shared->nodes);
+  const auto boxes = as_span<float>(shared->boxes);
+  // Each node's first rank builds (the same tree on every node); an error there reaches every
+  // rank.
   par::run_collectively(layout->world, [&] {
-    if (layout->world.rank == 0)
-      built.emplace(features, box_width_);
+    if (layout->node.rank == 0)
+      Builder{features, box_width_, lane_blocks, voxels, nodes, boxes}.build();
   });
-  const auto share = [&](const auto& values) {
-    using T = typename std::decay_t<decltype(values)>::value_type;
-    return par::NodeSharedArray<T>::from_root(layout, std::span<const T>(values));
-  };
-  const Arrays empty_arrays{};
-  const Arrays& source = built ? *built : empty_arrays;
-  auto shared = std::make_shared<SharedArrays>(SharedArrays{
-      share(source.lane_blocks), share(source.voxels), share(source.nodes), share(source.boxes)});
-  built.reset();
-  lane_blocks_ = shared->lane_blocks.values();
-  voxels_ = shared->voxels.values();
-  nodes_ = shared->nodes.values();
-  boxes_ = shared->boxes.values();
+  for (const par::NodeSharedBytes* bytes :
+       {&shared->lane_blocks, &shared->voxels, &shared->nodes, &shared->boxes})
+    bytes->synchronise();
+  lane_blocks_ = lane_blocks;
+  voxels_ = voxels;
+  nodes_ = nodes;
+  boxes_ = boxes;
   storage_ = std::move(shared);
 }
 
-void FeatureKdTree::Arrays::build_node(std::int32_t node, const vol::ChannelGrid& features,
-                                       std::vector<std::int32_t>& order, std::int64_t chunk_begin,
-                                       std::int64_t chunk_end, int depth) {
+void FeatureKdTree::Builder::build_node(std::size_t node, std::int64_t chunk_begin,
+                                        std::int64_t chunk_end, int depth) {
   TEXSIM_VERIFY(depth <= kMaxDepth, "feature kd-tree: deeper than " << kMaxDepth);
+  const int channels = features.channels();
   const auto first = static_cast<std::size_t>(chunk_begin * kLanes);
   const auto last = std::min(static_cast<std::size_t>(chunk_end * kLanes), order.size());
-  float* low = boxes.data() + static_cast<std::size_t>(node) * 2 * box_width;
+  float* low = boxes.data() + node * 2 * static_cast<std::size_t>(box_width);
   float* high = low + box_width;
   std::fill(low, low + channels, std::numeric_limits<float>::infinity());
   std::fill(high, high + channels, -std::numeric_limits<float>::infinity());
@@ -126,7 +161,7 @@ void FeatureKdTree::Arrays::build_node(std::int32_t node, const vol::ChannelGrid
     }
   }
   if (chunk_end - chunk_begin == 1) {
-    nodes[static_cast<std::size_t>(node)].chunk = static_cast<std::int32_t>(chunk_begin);
+    nodes[node].chunk = static_cast<std::int32_t>(chunk_begin);
     float* block = lane_blocks.data() + static_cast<std::size_t>(chunk_begin) * kLanes * channels;
     for (std::size_t i = first; i < last; ++i) {
       const auto lane = i - first;
@@ -151,13 +186,11 @@ void FeatureKdTree::Arrays::build_node(std::int32_t node, const vol::ChannelGrid
   std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(first),
                    order.begin() + static_cast<std::ptrdiff_t>(middle_chunk * kLanes),
                    order.begin() + static_cast<std::ptrdiff_t>(last), by_axis);
-  const auto child = static_cast<std::int32_t>(nodes.size());
-  nodes.emplace_back();
-  nodes.emplace_back();
-  boxes.resize(nodes.size() * 2 * static_cast<std::size_t>(box_width));
-  nodes[static_cast<std::size_t>(node)].first_child = child;
-  build_node(child, features, order, chunk_begin, middle_chunk, depth + 1);
-  build_node(child + 1, features, order, middle_chunk, chunk_end, depth + 1);
+  const std::size_t child = next_node;
+  next_node += 2;
+  nodes[node].first_child = static_cast<std::int32_t>(child);
+  build_node(child, chunk_begin, middle_chunk, depth + 1);
+  build_node(child + 1, middle_chunk, chunk_end, depth + 1);
 }
 
 namespace {

@@ -54,8 +54,9 @@ public:
   /// Builds the tree over every voxel of `features` (finite values no larger than
   /// FloatDistanceBound::largest_safe_value()), held by this rank alone.
   explicit FeatureKdTree(const vol::ChannelGrid& features);
-  /// The same tree, built by layout->world's rank 0 and held once per node (about 40 bytes a
-  /// voxel for 8 channels, which every rank would otherwise hold). Collective over layout->world.
+  /// The same tree held once per node (about 40 bytes a voxel for 8 channels, which every rank
+  /// would otherwise hold), built by each node's first rank straight into the node's shared
+  /// windows: no rank holds a private copy as well. Collective over layout->world.
   FeatureKdTree(const vol::ChannelGrid& features, std::shared_ptr<const par::NodeLayout> layout);
 
   /// Visits every voxel whose exact squared distance to `query` (channels() floats of the grid's
@@ -74,6 +75,7 @@ private:
   };
   struct Arrays;
   struct SharedArrays;
+  struct Builder;
 
   int channels_ = 0;
   int box_width_ = 0; ///< channels rounded up to whole SIMD groups
