@@ -45,6 +45,18 @@ std::int64_t boundary_edge_count(const DistributedMesh& mesh) {
   return total;
 }
 
+std::int64_t crease_edge_count(const DistributedMesh& mesh) {
+  // A crease lies between two triangles, each owned by exactly one rank: counted twice.
+  std::int64_t mine = 0;
+  if (!mesh.creases().empty())
+    for (const std::int32_t t : mesh.owned_triangles())
+      for (const std::int32_t e : mesh.topology().triangle_edges(t))
+        mine += mesh.creases()[std::size_t(e)];
+  std::int64_t total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, mesh.comm().raw);
+  return total / 2;
+}
+
 double mean_edge_length(const DistributedMesh& mesh) {
   const auto& surface = mesh.mesh();
   std::vector<double> lengths;

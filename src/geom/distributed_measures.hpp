@@ -16,6 +16,9 @@ double mean_edge_length(const DistributedMesh& mesh);
 /// Edges of the surface with a single triangle (0 for a closed surface). Collective.
 std::int64_t boundary_edge_count(const DistributedMesh& mesh);
 
+/// Crease edges of the surface (DistributedMesh::creases; 0 without). Collective.
+std::int64_t crease_edge_count(const DistributedMesh& mesh);
+
 /// As geom::mean_normal_deviation_deg on the whole surface. Collective.
 double mean_normal_deviation_deg(const DistributedMesh& mesh);
 

@@ -94,8 +94,9 @@ void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
   // The halo is complete: owned vertices, ghosts and the next ring keep all their triangles.
   const MeshTopology whole(input);
 
-  // Every edge the rank holds has the serial refinement's crease flag.
+  // Every edge the rank holds has the serial refinement's crease flag, and each is counted once.
   ASSERT_EQ(mesh.creases().empty(), fine_creases.empty());
+  EXPECT_EQ(crease_edge_count(mesh), std::count(fine_creases.begin(), fine_creases.end(), 1));
   if (!fine_creases.empty()) {
     ASSERT_EQ(mesh.creases().size(), std::size_t(mesh.topology().num_edges()));
     for (std::int32_t e = 0; e < mesh.topology().num_edges(); ++e) {

@@ -92,6 +92,7 @@ void FemRdPipeline::run(RunContext& ctx) {
     report.metric("triangles", mesh->global_triangle_count());
     // Where the surface is open, both bases keep the natural (no-flux) boundary condition.
     report.metric("boundary_edges", geom::boundary_edge_count(*mesh));
+    report.metric("crease_edges", geom::crease_edge_count(*mesh)); // mesh.crease_angle's
     report.metric(
         "partition",
         {{"method", settings_.partition == geom::PartitionMethod::kMorton ? "morton" : "scotch"},
