@@ -111,10 +111,11 @@ TEST(LoopCreases, AFoldKeptSharpKeepsItsArea) {
   for (auto& p : folded.positions)
     p = p.x() <= 1.0 ? p : geom::Vec3(1.0, p.y(), p.x() - 1.0);
   const par::Comm comm = par::world();
-  const geom::DistributedMesh mesh(comm, folded, geom::PartitionMethod::kScotch);
   const auto area = [&](double crease_angle) {
-    const LoopAssembler assembler(mesh,
-                                  geom::crease_edges(mesh.mesh(), mesh.topology(), crease_angle));
+    const geom::DistributedMesh mesh(
+        comm, folded, geom::PartitionMethod::kScotch, {},
+        geom::crease_edges(folded, geom::MeshTopology(folded), crease_angle));
+    const LoopAssembler assembler(mesh);
     return global_sum(assembler.mass_values({}, false));
   };
   const double sharp = area(45.0), smooth = area(180.0);

@@ -104,9 +104,8 @@ ElementAssembly element_assembly(const geom::DistributedMesh& mesh,
 
 } // namespace
 
-LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedMesh& mesh,
-                                                        std::span<const char> creases) {
-  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), creases);
+LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedMesh& mesh) {
+  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), mesh.creases());
   ElementList list;
   const auto& triangles = mesh.mesh().triangles;
   for (std::int32_t t = 0; t < mesh.mesh().num_triangles(); ++t) {
@@ -127,11 +126,10 @@ LoopAssembler::ElementList LoopAssembler::list_elements(const geom::DistributedM
   return list;
 }
 
-LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases)
-    : LoopAssembler(mesh, creases, list_elements(mesh, creases)) {}
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh)
+    : LoopAssembler(mesh, list_elements(mesh)) {}
 
-LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases,
-                             ElementList list)
+LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, ElementList list)
     : FemAssembler(element_assembly(mesh, list.offsets, list.controls)), mesh_(mesh),
       controls_(std::move(list.controls)) {
   const TriangleRule regular_rule = collapsed_gauss_rule();
@@ -154,7 +152,7 @@ LoopAssembler::LoopAssembler(const geom::DistributedMesh& mesh, std::span<const 
   }
   tables_.push_back(std::move(regular));
 
-  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), creases);
+  const geom::LoopPatchBasis basis(mesh.mesh(), mesh.topology(), mesh.creases());
   std::map<std::vector<std::int32_t>, std::size_t> table_of_structure;
   std::size_t points = 0;
   for (std::size_t e = 0; e < list.triangles.size(); ++e) {

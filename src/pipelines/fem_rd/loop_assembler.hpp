@@ -30,9 +30,9 @@ namespace texsim::pipelines::fem_rd {
 class LoopAssembler final : public FemAssembler {
 public:
   /// Builds the pattern, the basis values at every quadrature point and the geometry of the
-  /// current control positions; `creases` flags the local mesh's crease edges
-  /// (geom::crease_edges), empty for none. Not collective.
-  explicit LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases = {});
+  /// current control positions, with the crease rules on the mesh's creases
+  /// (DistributedMesh::creases). Not collective.
+  explicit LoopAssembler(const geom::DistributedMesh& mesh);
 
   /// Recomputes the limit surface's tangents and area element at every quadrature point.
   void update_geometry() override;
@@ -57,9 +57,8 @@ private:
     std::vector<std::int64_t> offsets{0};
     std::vector<std::int32_t> controls; ///< local vertex ids
   };
-  static ElementList list_elements(const geom::DistributedMesh& mesh,
-                                   std::span<const char> creases);
-  LoopAssembler(const geom::DistributedMesh& mesh, std::span<const char> creases, ElementList list);
+  static ElementList list_elements(const geom::DistributedMesh& mesh);
+  LoopAssembler(const geom::DistributedMesh& mesh, ElementList list);
 
   /// The functions of an element's controls at its quadrature points (rows: points).
   struct Table {

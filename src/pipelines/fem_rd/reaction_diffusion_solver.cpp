@@ -21,7 +21,7 @@ constexpr std::uint32_t kProbeStream = 0x7e57;
 
 std::unique_ptr<FemAssembler> make_assembler(const geom::DistributedMesh& mesh, FemBasis basis) {
   if (basis == FemBasis::kLoop)
-    return std::make_unique<LoopAssembler>(mesh, mesh.creases());
+    return std::make_unique<LoopAssembler>(mesh);
   return std::make_unique<P1Assembler>(mesh);
 }
 } // namespace
