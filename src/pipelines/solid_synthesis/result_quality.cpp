@@ -5,6 +5,7 @@
 #include "par/gather_to_root.hpp"
 #include "par/node_shared_array.hpp"
 #include "pipelines/solid_synthesis/correction_stencil.hpp"
+#include "pipelines/solid_synthesis/distinct_features.hpp"
 #include "pipelines/solid_synthesis/slab_colours.hpp"
 #include "pipelines/solid_synthesis/synthesis_metrics.hpp"
 
@@ -95,9 +96,11 @@ double slab_neighbourhood_error(const par::Comm& comm, const CoordinateSlab& sla
                             std::span<float>(queries).subspan(s * dimension, dimension));
     }
   }
-  // One tree per node, built once: every rank searches the same exemplar features.
-  const FeatureKdTree tree(finest.features, par::NodeLayout::make(comm));
-  const std::vector<double> mine = nearest_appearance_distances(queries, finest.features, tree);
+  // The exemplar's distinct vectors and their tree, once per node: every rank searches them.
+  const auto node_layout = par::NodeLayout::make(comm);
+  const vol::ChannelGrid distinct = distinct_feature_rows(finest.features, node_layout);
+  const FeatureKdTree tree(distinct, node_layout);
+  const std::vector<double> mine = nearest_appearance_distances(queries, distinct, tree);
   // Added on rank 0 in rank order, the volume's order: the same sum for any rank count.
   const std::vector<double> all = par::gather_to_root(comm, std::span<const double>(mine));
   double error = 0.0;

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "img/colour_histogram.hpp"
+#include "pipelines/solid_synthesis/distinct_features.hpp"
 #include "pipelines/solid_synthesis/feature_kd_tree.hpp"
 
 #include <algorithm>
@@ -98,13 +99,14 @@ double appearance_spread(const vol::ChannelGrid& exemplar_features) {
 
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features) {
-  // Exact nearest neighbours through the kd-tree the similarity sets use: on appearance features
-  // it visits a few hundred of the exemplar's voxels per query instead of all of them. Wider
-  // vectors (raw neighbourhoods) than the tree indexes are scanned in full.
-  if (exemplar_features.channels() > FeatureKdTree::kMaxChannels)
-    return nearest_distances(queries, exemplar_features, nullptr);
-  const FeatureKdTree tree(exemplar_features);
-  return nearest_distances(queries, exemplar_features, &tree);
+  // Exact nearest neighbours through the kd-tree the similarity sets use, over each distinct
+  // vector once: on appearance features it visits a few hundred of them per query instead of all.
+  // Wider vectors (raw neighbourhoods) than the tree indexes are scanned in full.
+  const vol::ChannelGrid distinct = distinct_feature_rows(exemplar_features);
+  if (distinct.channels() > FeatureKdTree::kMaxChannels)
+    return nearest_distances(queries, distinct, nullptr);
+  const FeatureKdTree tree(distinct);
+  return nearest_distances(queries, distinct, &tree);
 }
 
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,

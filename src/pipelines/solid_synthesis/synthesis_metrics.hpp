@@ -32,11 +32,13 @@ double appearance_spread(const vol::ChannelGrid& exemplar_features);
 
 /// For each query (rows of `queries`, the features' channel count each), the Euclidean distance
 /// to the nearest exemplar appearance vector: the square root of the least exact_feature_distance
-/// over all exemplar voxels (found through a kd-tree, the same bits as a full scan), whichever
-/// other queries it is asked with and however many threads share them.
+/// over all exemplar voxels (found through a kd-tree over the distinct vectors,
+/// distinct_feature_rows: the same bits as a full scan), whichever other queries it is asked with
+/// and however many threads share them.
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features);
-/// The same distances through `tree`, built over `exemplar_features` (one held per node, say).
+/// The same distances through `tree`, built over `exemplar_features` (one held per node, say;
+/// pass distinct rows, or exact ties in flat regions are all visited).
 std::vector<double> nearest_appearance_distances(std::span<const float> queries,
                                                  const vol::ChannelGrid& exemplar_features,
                                                  const FeatureKdTree& tree);
