@@ -47,7 +47,9 @@ void copy_rows(const vol::ChannelGrid& features, std::span<const std::int32_t> v
   }
 }
 
-vol::Dims row_dims(std::size_t rows) { return {int(rows), 1, 1}; }
+vol::Dims row_dims(std::size_t rows) {
+  return {int(rows), 1, 1};
+}
 
 } // namespace
 
