@@ -20,7 +20,6 @@
 #include "core/log.hpp"
 #include "geom/generators.hpp"
 #include "geom/mesh_reader.hpp"
-#include "geom/mesh_topology.hpp"
 #include "geom/point_relaxation.hpp"
 #include "geom/surface_cells.hpp"
 #include "par/ghosted_vector.hpp"
@@ -148,18 +147,18 @@ struct RelaxTiming {
   geom::RelaxationReport last;
 };
 
-RelaxTiming time_relaxation(const Comm& comm, const geom::TriangleMesh& mesh,
-                            const geom::MeshTopology& topology, const BenchSettings& settings) {
+RelaxTiming time_relaxation(const Comm& comm, const geom::DistributedTriangles& surface,
+                            const BenchSettings& settings) {
   RelaxTiming timing;
   std::vector<double> sweeps, setups;
   for (int r = 0; r < settings.repeats; ++r) {
     geom::RelaxationReport report;
     geom::DistributedSurfacePoints points;
-    timing.totals_s.push_back(max_over_ranks(
-        comm, timed(comm, [&] {
-          points = geom::relaxed_surface_points(comm, mesh, topology, settings.cells, settings.seed,
-                                                geom::RelaxationSettings{}, &report);
-        })));
+    timing.totals_s.push_back(max_over_ranks(comm, timed(comm, [&] {
+                                               points = geom::relaxed_surface_points(
+                                                   comm, surface, settings.cells, settings.seed,
+                                                   geom::RelaxationSettings{}, &report);
+                                             })));
     sweeps.insert(sweeps.end(), report.seconds_per_iteration.begin(),
                   report.seconds_per_iteration.end());
     setups.push_back(report.seconds_setup);
@@ -431,10 +430,11 @@ int main(int argc, char** argv) {
 
   const bool fallback = !std::filesystem::exists(settings.mesh);
   const geom::TriangleMesh mesh = fallback ? geom::icosphere(6) : geom::read_mesh(settings.mesh);
-  const geom::MeshTopology topology(mesh);
+  // Each rank keeps its share of the triangles, as in turk_rd.
+  const auto surface = geom::DistributedTriangles::from_replicated(comm, mesh);
 
   // Turk's relaxation alone, then the whole tiling; the last tiling carries the solver.
-  const RelaxTiming relax = time_relaxation(comm, mesh, topology, settings);
+  const RelaxTiming relax = time_relaxation(comm, surface, settings);
   geom::SurfaceCellsSettings cell_settings;
   cell_settings.count = settings.cells;
   std::unique_ptr<geom::SurfaceCells> cells;
@@ -443,7 +443,7 @@ int main(int argc, char** argv) {
     cells.reset();
     retile_s.push_back(max_over_ranks(comm, timed(comm, [&] {
                                         cells = std::make_unique<geom::SurfaceCells>(
-                                            comm, mesh, topology, settings.seed, cell_settings);
+                                            comm, surface, settings.seed, cell_settings);
                                       })));
     const auto& report = cells->relaxation();
     double relaxation = report.seconds_setup;

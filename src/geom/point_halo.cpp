@@ -162,6 +162,16 @@ std::vector<Box3> covering_boxes(std::span<const Vec3> positions, double cell, d
   return result;
 }
 
+std::vector<char> inside_boxes(std::span<const Vec3> points, std::span<const Box3> boxes) {
+  const std::vector<Box3> listed(boxes.begin(), boxes.end());
+  const BoxIndex index(listed, Box3::around(points));
+  std::vector<char> inside(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    index.for_each_candidate(
+        points[i], [&](std::size_t b) { inside[i] = inside[i] || listed[b].contains(points[i]); });
+  return inside;
+}
+
 std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
                                            std::span<const std::int64_t> owned_ids,
                                            std::span<const Vec3> owned_positions,

@@ -53,6 +53,9 @@ std::vector<HaloPoint> exchange_point_halo(const par::Comm& comm,
                                            std::span<const Vec3> owned_positions,
                                            std::span<const Box3> needed);
 
+/// Per point, 1 when one of `boxes` holds it (through a grid index of the boxes). Serial.
+std::vector<char> inside_boxes(std::span<const Vec3> points, std::span<const Box3> boxes);
+
 /// A union of boxes holding every point within `reach` of `positions` and hugging them far more
 /// closely than one bounding box (a rank's share of a surface is rarely box-shaped): the
 /// bounding box of the points in each occupied cell of a grid with cells of edge `cell`, grown

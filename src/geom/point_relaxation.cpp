@@ -6,6 +6,7 @@
 #include "geom/mesh_measures.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/random_surface_points.hpp"
+#include "geom/surface_window.hpp"
 
 #include <mpi.h>
 
@@ -292,9 +293,9 @@ std::vector<SurfacePoint> relaxation_sweep(const SurfaceWalker& walker,
   return moved;
 }
 
-DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,
-                                                const MeshTopology& topology, std::int64_t count,
-                                                std::uint64_t seed,
+DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm,
+                                                const DistributedTriangles& surface,
+                                                std::int64_t count, std::uint64_t seed,
                                                 const RelaxationSettings& settings,
                                                 RelaxationReport* report) {
   TEXSIM_VERIFY(count > 0, "relaxed_surface_points: count " << count << " must be positive");
@@ -304,19 +305,16 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
                     << ", step " << settings.step
                     << ": iterations must not be negative, the others must be positive");
   const double setup_start = MPI_Wtime();
-  const double radius = repulsion_radius(total_area(mesh), count, settings.radius_factor);
-  const SurfaceWalker walker(mesh, topology);
+  const double radius = repulsion_radius(surface.total_area(), count, settings.radius_factor);
 
   // Each rank places the points of its share of the ids (point id -> the same point at any rank
-  // count), then the ranks sort them along a Morton curve and each keeps an even run: spatially
-  // compact parts, and no rank ever holds all points.
+  // count; the rank holding the triangle's area slot computes it), then the ranks sort them along
+  // a Morton curve and each keeps an even run: spatially compact parts, and no rank ever holds
+  // all points.
   const std::int64_t first = count * comm.rank / comm.size;
   const std::int64_t last = count * (comm.rank + 1) / comm.size;
-  DistributedSurfacePoints placed;
-  placed.points = random_surface_points(mesh, first, last - first, seed);
-  placed.ids.resize(placed.points.size());
-  std::iota(placed.ids.begin(), placed.ids.end(), first);
-  auto sorted = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(placed));
+  auto sorted = sort_along_morton_curve(comm, surface.bounds(),
+                                        surface.random_points(comm, first, last - first, seed));
   // relaxation_sweep wants increasing ids.
   std::vector<std::size_t> by_id(sorted.ids.size());
   std::iota(by_id.begin(), by_id.end(), std::size_t{0});
@@ -329,6 +327,7 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
     points.push_back(sorted.points[k]);
   }
   const double setup_seconds = MPI_Wtime() - setup_start;
+  SurfaceWindow window(surface, settings.step * radius);
 
   std::vector<double> seconds(settings.iterations), mean_move(settings.iterations);
   std::int64_t max_halo = 0;
@@ -344,7 +343,9 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
         comm, ids, positions, covering_boxes(positions, kHaloCellFactor * radius, radius));
     max_halo = std::max<std::int64_t>(max_halo, std::int64_t(halo.size()));
     double move_sum = 0.0;
-    points = relaxation_sweep(walker, ids, points, halo, radius, settings, &move_sum);
+    window.cover(comm, positions);
+    points = window.to_global(relaxation_sweep(window.walker(), ids, window.to_local(points), halo,
+                                               radius, settings, &move_sum));
     seconds[sweep] = MPI_Wtime() - start;
     mean_move[sweep] = move_sum;
     if (progress)
@@ -372,6 +373,9 @@ DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const Tri
     for (double& m : report->mean_move_per_iteration)
       m /= double(count) * radius;
     MPI_Allreduce(&max_halo, &report->max_halo_points, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+    report->window_fetches = window.fetches(); // the same on every rank: fetched together
+    const std::int64_t held = window.triangles_max();
+    MPI_Allreduce(&held, &report->window_triangles_max, 1, MPI_INT64_T, MPI_MAX, comm.raw);
   }
   DistributedSurfacePoints result;
   result.ids = std::move(ids);

@@ -3,7 +3,7 @@
 /// surfaces using reaction-diffusion", SIGGRAPH '91, part two): random area-weighted points repel
 /// their neighbours within a radius r and move along the surface, sweep after sweep, until they are
 /// nearly hexagonally spaced. Serial kernels plus the distributed driver.
-#include "geom/mesh_topology.hpp"
+#include "geom/distributed_triangles.hpp"
 #include "geom/point_halo.hpp"
 #include "geom/surface_point.hpp"
 #include "geom/surface_walker.hpp"
@@ -34,6 +34,10 @@ struct RelaxationReport {
   std::vector<double> seconds_per_iteration; ///< wall time of each sweep, max over ranks
   double seconds_setup = 0.0;                ///< placement and partition, max over ranks
   std::int64_t max_halo_points = 0;          ///< largest halo any rank received in a sweep
+  /// Times the ranks fetched the triangles their points can reach (SurfaceWindow), and the most
+  /// triangles one rank held for that: its share of the surface, never the whole of it.
+  int window_fetches = 0;
+  std::int64_t window_triangles_max = 0;
   /// Mean move per point of each sweep as a fraction of r (all ranks): falls as points settle.
   std::vector<double> mean_move_per_iteration;
 };
@@ -62,18 +66,21 @@ relaxation_sweep(const SurfaceWalker& walker, std::span<const std::int64_t> ids,
                  std::span<const SurfacePoint> points, std::span<const HaloPoint> halo,
                  double radius, const RelaxationSettings& settings, double* move_sum = nullptr);
 
-/// Collective over comm. Places `count` random points (random_surface_points with ids
-/// 0..count-1 and `seed`; each rank places an even share of the ids), gives each rank an even run
-/// of them along a Morton curve of the initial positions in the mesh's bounding box
-/// (par::distributed_sort; ownership then stays fixed), and runs settings.iterations sweeps of
-/// Turk's relaxation with r = repulsion_radius(total area, count, radius_factor): each sweep
-/// refreshes the halo (exchange_point_halo with the covering_boxes() of the owned points, cells of
-/// 3 r, grown by r) and calls relaxation_sweep(). The gathered result is the same, bit for bit, on
-/// any number of ranks and threads. Prints a progress line on rank 0 when the sweeps take long.
-/// `report` (optional, not owned) receives radius and timings, the same on every rank.
-DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm, const TriangleMesh& mesh,
-                                                const MeshTopology& topology, std::int64_t count,
-                                                std::uint64_t seed,
+/// Collective over comm. Places `count` random points (random_surface_points on the whole mesh
+/// with ids 0..count-1 and `seed`, the same bits; each rank asks for an even share of the ids,
+/// DistributedTriangles::random_points), gives each rank an even run of them along a Morton curve
+/// of the initial positions in the mesh's bounding box (par::distributed_sort; ownership then
+/// stays fixed), and runs settings.iterations sweeps of Turk's relaxation with
+/// r = repulsion_radius(total area, count, radius_factor): each sweep refreshes the halo
+/// (exchange_point_halo with the covering_boxes() of the owned points, cells of 3 r, grown by r)
+/// and calls relaxation_sweep() with a SurfaceWindow's walker (the triangles the owned points can
+/// reach, fetched from the ranks holding them). The gathered result is the same, bit for bit, on
+/// any number of ranks and threads, and the same as on the whole mesh. Prints a progress line on
+/// rank 0 when the sweeps take long. `report` (optional, not owned) receives radius and timings,
+/// the same on every rank.
+DistributedSurfacePoints relaxed_surface_points(const par::Comm& comm,
+                                                const DistributedTriangles& surface,
+                                                std::int64_t count, std::uint64_t seed,
                                                 const RelaxationSettings& settings,
                                                 RelaxationReport* report = nullptr);
 

@@ -5,19 +5,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace texsim::geom {
 
-AreaSampler::AreaSampler(const TriangleMesh& mesh) : mesh_(mesh) {
-  const auto areas = triangle_areas(mesh_);
-  prefix_areas_.resize(areas.size());
+AreaPrefixSums area_prefix_sums(const TriangleMesh& mesh) {
+  const auto areas = triangle_areas(mesh);
+  AreaPrefixSums prefix;
+  prefix.sums.resize(areas.size());
   double sum = 0.0;
   for (std::size_t t = 0; t < areas.size(); ++t) {
     sum += areas[t];
-    prefix_areas_[t] = sum;
+    prefix.sums[t] = sum;
     if (areas[t] > 0.0)
-      last_positive_ = static_cast<std::int32_t>(t);
+      prefix.last_positive = static_cast<std::int32_t>(t);
   }
+  return prefix;
+}
+
+AreaSampler::AreaSampler(const TriangleMesh& mesh) : mesh_(mesh) {
+  auto prefix = area_prefix_sums(mesh_);
+  prefix_areas_ = std::move(prefix.sums);
+  last_positive_ = prefix.last_positive;
+  const double sum = prefix_areas_.empty() ? 0.0 : prefix_areas_.back();
   TEXSIM_VERIFY(last_positive_ >= 0 && sum > 0.0,
                 "AreaSampler: the mesh has no triangle of positive area (" << mesh_.num_triangles()
                                                                            << " triangles)");

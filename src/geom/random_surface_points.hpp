@@ -13,6 +13,14 @@ namespace texsim::geom {
 /// CounterRng stream used by random_surface_points().
 inline constexpr std::uint32_t kRandomSurfacePointStream = 0x5401;
 
+/// Inclusive prefix sums of the triangle areas in id order (the last one is total_area's bits),
+/// and the last triangle of positive area (-1 when there is none). Serial.
+struct AreaPrefixSums {
+  std::vector<double> sums;
+  std::int32_t last_positive = -1;
+};
+AreaPrefixSums area_prefix_sums(const TriangleMesh& mesh);
+
 /// Draws points uniformly with respect to surface area. Keeps a copy of the mesh (the argument
 /// may be destroyed afterwards). sample() is const and thread-safe. Serial, not collective.
 class AreaSampler {

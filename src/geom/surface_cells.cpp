@@ -56,45 +56,47 @@ std::vector<Vec3> positions_of(std::span<const SurfacePoint> points) {
 
 } // namespace
 
-SurfaceCells::SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh,
-                           const MeshTopology& topology, std::uint64_t seed,
-                           const SurfaceCellsSettings& settings)
+SurfaceCells::SurfaceCells(const par::Comm& comm, const DistributedTriangles& surface,
+                           std::uint64_t seed, const SurfaceCellsSettings& settings)
     : global_count_(settings.count) {
   TEXSIM_VERIFY(settings.count > 0, "SurfaceCells needs at least one cell");
-  surface_area_ = total_area(mesh);
+  surface_area_ = surface.total_area();
   spacing_ = std::sqrt(surface_area_ / double(settings.count));
-  number_along_morton_curve(comm, mesh,
-                            relaxed_surface_points(comm, mesh, topology, settings.count, seed,
+  number_along_morton_curve(comm, surface.bounds(),
+                            relaxed_surface_points(comm, surface, settings.count, seed,
                                                    settings.relaxation, &relaxation_));
-  build_view(comm, mesh, settings.halo_spacings * spacing_);
+  build_view(comm, surface, settings.halo_spacings * spacing_);
   reduce_pieces(comm);
   build_stencil(comm);
 }
 
-void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const TriangleMesh& mesh,
+void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Box3& bounds,
                                              DistributedSurfacePoints relaxed) {
   // Cell ids follow the points sorted by (Morton key in the mesh's bounding box, point id); the
   // sort leaves rank r the even run of cells floor(cell p / n) = r, in id order.
-  points_ = sort_along_morton_curve(comm, Box3::around(mesh.positions), std::move(relaxed)).points;
+  points_ = sort_along_morton_curve(comm, bounds, std::move(relaxed)).points;
   rank_offsets_ = offsets_of_ranks(comm, owned_count());
   owned_begin_ = rank_offsets_[comm.rank];
   ids_.resize(points_.size());
   std::iota(ids_.begin(), ids_.end(), owned_begin_);
 }
 
-void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo) {
-  const auto part = morton_triangle_parts(mesh, comm.size);
-  for (std::size_t t = 0; t < part.size(); ++t)
-    if (part[t] == comm.rank)
-      triangles_.push_back(std::int32_t(t));
+void SurfaceCells::build_view(const par::Comm& comm, const DistributedTriangles& surface,
+                              double halo) {
+  // This rank's share of the triangles, numbered in the whole mesh's order.
+  const LocalSurface share = surface.owned_surface();
+  const TriangleMesh& mesh = share.mesh;
+  std::vector<std::int32_t> local_triangles(share.triangle_ids.size());
+  std::iota(local_triangles.begin(), local_triangles.end(), 0);
+  for (const std::int64_t id : share.triangle_ids)
+    triangles_.push_back(std::int32_t(id));
   // The halo: other ranks' cells within `halo` of this rank's triangles. Every point of a
   // triangle lies within its longest edge of a corner, so boxes around the corners grown by
   // halo + longest edge cover the triangles closely (one box per occupied grid cell).
   std::vector<Vec3> corners;
   double longest_edge = 0;
-  for (const auto t : triangles_)
+  for (const auto& tri : mesh.triangles)
     for (int c = 0; c < 3; ++c) {
-      const auto& tri = mesh.triangles[t];
       corners.push_back(mesh.positions[tri[c]]);
       longest_edge = std::max(longest_edge,
                               (mesh.positions[tri[c]] - mesh.positions[tri[(c + 1) % 3]]).norm());
@@ -116,7 +118,9 @@ void SurfaceCells::build_view(const par::Comm& comm, const TriangleMesh& mesh, d
     view_blocks_.push_back(std::int32_t(rank_offsets_[h.owner] + h.owner_index));
     view_owners_.push_back(h.owner);
   }
-  pieces_ = restricted_voronoi_pieces(mesh, triangles_, view_positions_, view_ids_, true);
+  pieces_ = restricted_voronoi_pieces(mesh, local_triangles, view_positions_, view_ids_, true);
+  for (auto& piece : pieces_)
+    piece.triangle = triangles_[std::size_t(piece.triangle)];
 }
 
 void SurfaceCells::reduce_pieces(const par::Comm& comm) {

@@ -12,7 +12,7 @@
 /// of its triangles from its own cells plus a halo, then sends areas and border lengths to the
 /// cells' owners. Cell ids depend only on the seed and the mesh: every per-cell sum runs in id
 /// order, so every number here is the same on any number of ranks.
-#include "geom/mesh_topology.hpp"
+#include "geom/distributed_triangles.hpp"
 #include "geom/point_relaxation.hpp"
 #include "geom/restricted_voronoi.hpp"
 #include "geom/surface_point.hpp"
@@ -40,9 +40,10 @@ struct CellPartitionQuality {
 
 class SurfaceCells {
 public:
-  /// Places, relaxes and tiles. Collective; every rank passes the same mesh.
-  SurfaceCells(const par::Comm& comm, const TriangleMesh& mesh, const MeshTopology& topology,
-               std::uint64_t seed, const SurfaceCellsSettings& settings);
+  /// Places, relaxes and tiles on the split surface (each rank tiles its share of the
+  /// triangles). Collective.
+  SurfaceCells(const par::Comm& comm, const DistributedTriangles& surface, std::uint64_t seed,
+               const SurfaceCellsSettings& settings);
 
   std::int64_t global_count() const { return global_count_; }
   std::int64_t owned_begin() const { return owned_begin_; }
@@ -64,7 +65,8 @@ public:
   std::span<const std::int64_t> ghost_ids() const { return ghost_ids_; }
   std::span<const Vec3> ghost_positions() const { return ghost_positions_; }
 
-  /// This rank's input triangles and their Voronoi pieces; a piece's `seed` indexes the view.
+  /// This rank's input triangles (ids in the whole mesh, increasing) and their Voronoi pieces; a
+  /// piece's `seed` indexes the view, its `triangle` is an id in the whole mesh.
   std::span<const std::int32_t> triangles() const { return triangles_; }
   const std::vector<VoronoiPiece>& pieces() const { return pieces_; }
   /// The view: every owned cell (in owned order) followed by the other ranks' cells near this
@@ -81,9 +83,9 @@ public:
   const RelaxationReport& relaxation() const { return relaxation_; }
 
 private:
-  void number_along_morton_curve(const par::Comm& comm, const TriangleMesh& mesh,
+  void number_along_morton_curve(const par::Comm& comm, const Box3& bounds,
                                  DistributedSurfacePoints relaxed);
-  void build_view(const par::Comm& comm, const TriangleMesh& mesh, double halo);
+  void build_view(const par::Comm& comm, const DistributedTriangles& surface, double halo);
   void reduce_pieces(const par::Comm& comm);
   void build_stencil(const par::Comm& comm);
 

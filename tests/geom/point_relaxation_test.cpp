@@ -324,14 +324,15 @@ std::vector<Vec3> positions_of(const std::vector<SurfacePoint>& points) {
 // run on one process (with 1 and with 3 threads).
 void check_relaxation(const TriangleMesh& mesh, std::int64_t count, std::uint64_t seed) {
   const auto comm = par::world();
-  const MeshTopology topology(mesh);
   const RelaxationSettings settings;
   const auto initial =
       nearest_neighbor_spacing(positions_of(random_surface_points(mesh, 0, count, seed)));
   EXPECT_GT(initial.cv, 0.3);
 
   RelaxationReport report;
-  const auto mine = relaxed_surface_points(comm, mesh, topology, count, seed, settings, &report);
+  // Split from rank 0, as turk_rd does: no other rank sees the whole mesh.
+  const auto split = DistributedTriangles::from_root(comm, comm.is_root() ? mesh : TriangleMesh{});
+  const auto mine = relaxed_surface_points(comm, split, count, seed, settings, &report);
   const auto relaxed = gather_by_id(comm, mine, count);
   const auto spacing = nearest_neighbor_spacing(positions_of(relaxed));
   EXPECT_LT(spacing.cv, 0.1) << "random: " << initial.cv;
@@ -342,6 +343,12 @@ void check_relaxation(const TriangleMesh& mesh, std::int64_t count, std::uint64_
   EXPECT_DOUBLE_EQ(report.radius, settings.radius_factor * std::sqrt(area / double(count)));
   EXPECT_EQ(report.seconds_per_iteration.size(), std::size_t(settings.iterations));
   EXPECT_LT(report.mean_move_per_iteration.back(), report.mean_move_per_iteration.front());
+  // The windows: fetched at the start and again only as points drift, and, once a rank's points
+  // cover a region many moves wide (thousands of points per rank), never the whole mesh.
+  EXPECT_GE(report.window_fetches, 1);
+  EXPECT_LT(report.window_fetches, settings.iterations);
+  if (comm.size > 1 && count >= 5000 * comm.size)
+    EXPECT_LT(report.window_triangles_max, 3 * mesh.num_triangles() / 4) << report.window_fetches;
 
   // Every point lies on its triangle.
   int off = 0;
@@ -360,7 +367,8 @@ void check_relaxation(const TriangleMesh& mesh, std::int64_t count, std::uint64_
   for (const int threads : {1, 3}) {
     const int before = omp_get_max_threads();
     omp_set_num_threads(threads);
-    const auto serial = relaxed_surface_points(self(), mesh, topology, count, seed, settings);
+    const auto serial = relaxed_surface_points(
+        self(), DistributedTriangles::from_replicated(self(), mesh), count, seed, settings);
     omp_set_num_threads(before);
     ASSERT_EQ(serial.ids.size(), std::size_t(count));
     int differ = 0;
@@ -383,12 +391,11 @@ TEST(RelaxedSurfacePointsOnRealData, EvenlySpacedOnTheBunny) {
 }
 
 TEST(RelaxedSurfacePoints, RejectsBadSettings) {
-  const auto mesh = icosphere(1);
-  const MeshTopology topology(mesh);
+  const auto mesh = DistributedTriangles::from_replicated(par::world(), icosphere(1));
   RelaxationSettings bad;
   bad.step = 0.0;
-  EXPECT_THROW(relaxed_surface_points(par::world(), mesh, topology, 10, 1, bad), Error);
-  EXPECT_THROW(relaxed_surface_points(par::world(), mesh, topology, 0, 1, {}), Error);
+  EXPECT_THROW(relaxed_surface_points(par::world(), mesh, 10, 1, bad), Error);
+  EXPECT_THROW(relaxed_surface_points(par::world(), mesh, 0, 1, {}), Error);
 }
 
 } // namespace

@@ -38,8 +38,8 @@ struct Seeds {
 Seeds relaxed_seeds(const TriangleMesh& surface, std::int64_t count, std::uint64_t seed) {
   RelaxationSettings relaxation;
   relaxation.iterations = 15;
-  const auto relaxed =
-      relaxed_surface_points(self(), surface, MeshTopology(surface), count, seed, relaxation);
+  const auto relaxed = relaxed_surface_points(
+      self(), DistributedTriangles::from_replicated(self(), surface), count, seed, relaxation);
   Seeds seeds;
   for (std::size_t i = 0; i < relaxed.points.size(); ++i) {
     seeds.points.push_back(relaxed.points[i].position);
@@ -106,8 +106,8 @@ TEST(RestrictedDelaunay, CellsMeetingANoisySphereTwiceStillGiveAManifoldSphere) 
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
     RelaxationSettings relaxation;
     relaxation.iterations = 10;
-    const auto relaxed =
-        relaxed_surface_points(self(), bumpy, MeshTopology(bumpy), 1500, seed, relaxation);
+    const auto relaxed = relaxed_surface_points(
+        self(), DistributedTriangles::from_replicated(self(), bumpy), 1500, seed, relaxation);
     std::vector<Vec3> points;
     for (const auto& p : relaxed.points)
       points.push_back(p.position);

@@ -53,8 +53,10 @@ std::map<std::pair<std::int64_t, std::int64_t>, double> all_couplings(const par:
 
 void expect_tiling(const TriangleMesh& mesh, std::int64_t count) {
   const par::Comm comm = par::world();
-  const MeshTopology topology(mesh);
-  const SurfaceCells cells(comm, mesh, topology, 5, settings(count));
+  // Split from rank 0, as turk_rd does.
+  const SurfaceCells cells(
+      comm, DistributedTriangles::from_root(comm, comm.is_root() ? mesh : TriangleMesh{}), 5,
+      settings(count));
   ASSERT_EQ(cells.global_count(), count);
 
   const auto areas = test::gather_by_id(comm, cells.ids(), cells.areas());
@@ -81,7 +83,9 @@ void expect_tiling(const TriangleMesh& mesh, std::int64_t count) {
     EXPECT_GE(d, 3); // a closed surface: every cell is surrounded
 
   // The same cells on one rank: the same bits.
-  const SurfaceCells serial(test::self_comm(), mesh, topology, 5, settings(count));
+  const SurfaceCells serial(test::self_comm(),
+                            DistributedTriangles::from_replicated(test::self_comm(), mesh), 5,
+                            settings(count));
   const auto serial_areas = test::gather_by_id(test::self_comm(), serial.ids(), serial.areas());
   ASSERT_EQ(serial_areas.size(), areas.size());
   EXPECT_EQ(std::memcmp(serial_areas.data(), areas.data(), areas.size() * sizeof(double)), 0);

@@ -26,7 +26,8 @@ geom::SurfaceCells make_cells(const par::Comm& comm, const geom::TriangleMesh& m
   geom::SurfaceCellsSettings settings;
   settings.count = count;
   settings.relaxation.iterations = 15;
-  return geom::SurfaceCells(comm, mesh, geom::MeshTopology(mesh), 2, settings);
+  return geom::SurfaceCells(comm, geom::DistributedTriangles::from_replicated(comm, mesh), 2,
+                            settings);
 }
 
 TEST(CellRdSolver, DiffusionConservesAndRelaxesToTheMean) {

@@ -21,7 +21,8 @@ PatternShapes pattern_after(const geom::TriangleMesh& mesh, std::int64_t cells_c
                             const par::Comm& comm = par::world()) {
   geom::SurfaceCellsSettings settings;
   settings.count = cells_count;
-  const geom::SurfaceCells cells(comm, mesh, geom::MeshTopology(mesh), 4, settings);
+  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_replicated(comm, mesh), 4,
+                                 settings);
   auto config = ConfigDocument::parse(model_yaml, "test");
   const auto model = rd::make_reaction_model(config.root(), 4);
   const std::vector<double> scale(std::size_t(cells.owned_count()), 1.0);
@@ -65,7 +66,8 @@ TEST(TurkPatterns, AspectIsThePrincipalAxesRatioOfEachRegion) {
   const par::Comm comm = par::world();
   geom::SurfaceCellsSettings settings;
   settings.count = 6000;
-  const geom::SurfaceCells cells(comm, square, geom::MeshTopology(square), 4, settings);
+  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_replicated(comm, square), 4,
+                                 settings);
   const auto in_bar = [](const geom::Vec3& p) {
     return std::abs(p.x() - 0.5) < 0.3 && std::abs(p.y() - 0.3) < 0.05;
   };

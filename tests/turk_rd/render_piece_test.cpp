@@ -41,7 +41,12 @@ PlacedTriangle placed(const geom::TriangleMesh& mesh, const geom::Triangle& tria
 
 void check_pieces(const geom::TriangleMesh& input, int levels, std::span<const char> creases = {}) {
   const par::Comm comm = par::world();
-  const RenderPiece piece = make_render_piece(comm, input, creases, levels);
+  // Split from rank 0, as turk_rd does: each rank sees its share and the window it fetches.
+  const RenderPiece piece = make_render_piece(
+      comm,
+      geom::DistributedTriangles::from_root(comm, comm.is_root() ? input : geom::TriangleMesh{},
+                                            comm.is_root() ? creases : std::span<const char>()),
+      levels);
   std::vector<PlacedTriangle> mine;
   for (std::size_t t = 0; t < piece.written_triangles; ++t)
     mine.push_back(placed(piece.mesh, piece.mesh.triangles[t]));

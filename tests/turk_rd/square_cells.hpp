@@ -17,7 +17,7 @@ struct SquareCells {
   geom::SurfaceCells cells;
 
   explicit SquareCells(std::int64_t count = 8000)
-      : cells(comm, mesh, geom::MeshTopology(mesh), 4, settings(count)) {}
+      : cells(comm, geom::DistributedTriangles::from_replicated(comm, mesh), 4, settings(count)) {}
 
   /// `f` at every owned cell's position.
   template <class T> std::vector<T> at_cells(const std::function<T(const geom::Vec3&)>& f) const {

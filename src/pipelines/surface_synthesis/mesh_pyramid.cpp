@@ -99,7 +99,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
   });
   geom::SurfaceCellsSettings cells_settings = settings.cells;
   cells_settings.count = count;
-  const geom::SurfaceCells cells(comm, placed_on, geom::MeshTopology(placed_on),
+  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_replicated(comm, placed_on),
                                  level_seed(seed, level), cells_settings);
   const std::vector<geom::Vec3> positions = gather_cell_positions(comm, cells);
 

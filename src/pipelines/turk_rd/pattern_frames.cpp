@@ -21,13 +21,13 @@ std::unique_ptr<io::PvdSeries> open_series(const par::Comm& comm, const std::fil
 
 } // namespace
 
-PatternFrames::PatternFrames(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                             std::span<const char> input_creases, const geom::SurfaceCells& cells,
-                             const RenderSettings& render, const std::filesystem::path& output_dir,
+PatternFrames::PatternFrames(const par::Comm& comm, const geom::DistributedTriangles& input,
+                             const geom::SurfaceCells& cells, const RenderSettings& render,
+                             const std::filesystem::path& output_dir,
                              std::optional<double> restart_time)
     : comm_(comm), cells_(cells), render_(render), output_dir_(output_dir),
       piece_(std::make_unique<RenderPiece>(
-          make_render_piece(comm, input_mesh, input_creases, render.subdivision_levels))) {
+          make_render_piece(comm, input, render.subdivision_levels))) {
   // Cells within the weighting radius of this piece, fetched from their owners every frame.
   const double radius = render.radius_spacings * cells.spacing();
   std::vector<geom::Vec3> owned_positions;

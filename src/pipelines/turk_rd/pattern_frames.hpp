@@ -35,13 +35,12 @@ struct FrameData {
 
 class PatternFrames {
 public:
-  /// Builds the render mesh (`input_creases` kept sharp when it is subdivided), its partition and
-  /// the samplers. With `restart_time` the series are continued (entries after that time
+  /// Builds the render mesh (the input's creases kept sharp when it is subdivided), its partition
+  /// and the samplers. With `restart_time` the series are continued (entries after that time
   /// dropped), otherwise started afresh. Collective.
-  PatternFrames(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                std::span<const char> input_creases, const geom::SurfaceCells& cells,
-                const RenderSettings& render, const std::filesystem::path& output_dir,
-                std::optional<double> restart_time);
+  PatternFrames(const par::Comm& comm, const geom::DistributedTriangles& input,
+                const geom::SurfaceCells& cells, const RenderSettings& render,
+                const std::filesystem::path& output_dir, std::optional<double> restart_time);
   ~PatternFrames();
 
   /// Writes frame `step`. Collective.

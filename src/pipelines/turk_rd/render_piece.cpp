@@ -2,32 +2,41 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_topology.hpp"
-#include "geom/morton_order.hpp"
 #include "geom/patch_refinement.hpp"
 #include "par/collective.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string>
 
 namespace texsim::pipelines::turk_rd {
 
-RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                              std::span<const char> creases, int subdivision_levels) {
+RenderPiece make_render_piece(const par::Comm& comm, const geom::DistributedTriangles& input,
+                              int subdivision_levels) {
   RenderPiece piece;
   // Each rank refines only its share of the input (the input triangles of its run along a Morton
   // curve of their centroids) and one ring of input triangles around it. The fine triangles one
   // fine edge out of the share lie in that ring at least n - 1 fine edges (n = 2^levels) inside
   // its border, where Loop's masks already give the whole surface's positions: the normals at the
   // piece's border see all their triangles, exactly (render_piece_test checks the bits).
-  const geom::MeshTopology input_topology(input_mesh);
-  const auto part = geom::morton_triangle_parts(input_mesh, comm.size);
+  // The ring's vertices lie within one edge of the share's corners, and their triangles within
+  // two: a window of that reach holds every triangle around every vertex of the patch, so the cut
+  // sees the whole mesh's neighbourhoods.
+  std::vector<geom::Vec3> corners;
+  for (const auto& r : input.owned())
+    for (int c = 0; c < 3; ++c)
+      corners.emplace_back(r.corners[3 * c], r.corners[3 * c + 1], r.corners[3 * c + 2]);
+  const geom::LocalSurface window = input.window(comm, corners, 2.5 * input.longest_edge());
+  const geom::MeshTopology window_topology(window.mesh);
+  std::vector<char> creases = geom::edge_flags(window_topology, window.triangle_creases);
+  if (std::none_of(creases.begin(), creases.end(), [](char c) { return c != 0; }))
+    creases.clear();
   std::vector<std::int32_t> share;
-  for (std::size_t t = 0; t < part.size(); ++t)
-    if (part[t] == comm.rank)
-      share.push_back(std::int32_t(t));
+  for (const auto& r : input.owned())
+    share.push_back(window.local_triangle(r.id));
   std::vector<std::int32_t> ring_of;
   const geom::CoarsePatch patch =
-      geom::PatchCutter(input_mesh, input_topology, creases).cut(share, 1, &ring_of);
+      geom::PatchCutter(window.mesh, window_topology, creases).cut(share, 1, &ring_of);
   geom::RefinedPatch fine;
   par::run_collectively(comm, [&] {
     try {

@@ -4,6 +4,7 @@
 /// on any rank. The shares are runs of input triangles along a Morton curve of their centroids;
 /// each rank writes the fine triangles inside its share and keeps the ring of fine triangles
 /// around them, so normals at the piece's border see all their triangles.
+#include "geom/distributed_triangles.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
@@ -21,11 +22,11 @@ struct RenderPiece {
   std::vector<std::int64_t> written_connectivity; ///< 3 indices into written_vertices each
 };
 
-/// The piece of this rank, `creases` (per edge of MeshTopology(input_mesh), empty for none) kept
-/// sharp. Every fine triangle is written by exactly one rank, with the position bits of
-/// geom::refine on the whole input. InputError (on every rank) when the input cannot be
-/// Loop-subdivided. Collective.
-RenderPiece make_render_piece(const par::Comm& comm, const geom::TriangleMesh& input_mesh,
-                              std::span<const char> creases, int subdivision_levels);
+/// The piece of this rank: its share of `input` (DistributedTriangles' share) refined, the
+/// input's crease flags kept sharp. Every fine triangle is written by exactly one rank, with the
+/// position bits of geom::refine on the whole input. InputError (on every rank) when the input
+/// cannot be Loop-subdivided. Collective.
+RenderPiece make_render_piece(const par::Comm& comm, const geom::DistributedTriangles& input,
+                              int subdivision_levels);
 
 } // namespace texsim::pipelines::turk_rd

@@ -249,21 +249,27 @@ void TurkRdPipeline::run(RunContext& ctx) {
   const auto& run = ctx.settings;
   auto& report = ctx.report;
 
-  geom::TriangleMesh surface;
-  std::vector<char> creases; // mesh.crease_angle's, kept sharp by render.subdivision_levels
+  // Rank 0 builds the surface and splits it: every rank keeps its share of the triangles and
+  // fetches the others' near its cells when it needs them (geom::DistributedTriangles).
+  std::unique_ptr<geom::DistributedTriangles> surface;
   {
     auto stage = ctx.timers.scope("mesh");
+    geom::TriangleMesh whole;
+    std::vector<char> creases; // mesh.crease_angle's, kept sharp by render.subdivision_levels
     geom::MeshBuildReport built;
-    par::run_collectively(
-        comm, [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built, &creases); });
-    geom::record_mesh_build(built, report);
+    par::run_collectively(comm, [&] {
+      if (comm.is_root())
+        whole = geom::build_mesh(settings_.mesh, run.seed, &built, &creases);
+    });
+    if (comm.is_root()) // the summary and the log are rank 0's
+      geom::record_mesh_build(built, report);
+    surface = std::make_unique<geom::DistributedTriangles>(
+        geom::DistributedTriangles::from_root(comm, whole, creases));
   }
-  const geom::MeshTopology topology(surface);
   std::unique_ptr<geom::SurfaceCells> cells_owner;
   {
     auto stage = ctx.timers.scope("retiling");
-    cells_owner =
-        std::make_unique<geom::SurfaceCells>(comm, surface, topology, run.seed, settings_.cells);
+    cells_owner = std::make_unique<geom::SurfaceCells>(comm, *surface, run.seed, settings_.cells);
   }
   const auto& cells = *cells_owner;
   {
@@ -290,12 +296,15 @@ void TurkRdPipeline::run(RunContext& ctx) {
                             {"coupling_max", coupling_range.max},
                             {"relaxation_radius", relaxation.radius},
                             {"relaxation_iterations", settings_.cells.relaxation.iterations},
-                            {"relaxation_halo_max", relaxation.max_halo_points}});
+                            {"relaxation_halo_max", relaxation.max_halo_points},
+                            {"relaxation_window_fetches", relaxation.window_fetches},
+                            {"relaxation_window_triangles_max", relaxation.window_triangles_max},
+                            {"triangles", surface->global_count()}});
     report.metric("partition", {{"method", "morton"},
                                 {"edge_cut", q.edge_cut},
                                 {"imbalance", q.imbalance},
                                 {"ghosts_max", q.ghosts_max}});
-    log::info(log::cat("retiling: ", cells.global_count(), " cells on ", surface.num_triangles(),
+    log::info(log::cat("retiling: ", cells.global_count(), " cells on ", surface->global_count(),
                        " triangles, cell areas sum to the surface area within ",
                        std::abs(total_cell_area - cells.surface_area()) / cells.surface_area(),
                        ", areas ", area_range.min / mean_area, " to ", area_range.max / mean_area,
@@ -334,7 +343,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
       log::info(log::cat("restarted from ", reader.path().string(), " in stage '",
                          stages[state.stage].name, "' after ", state.stage_step, " steps"));
     }
-    frames = std::make_unique<PatternFrames>(comm, surface, creases, cells, settings_.render,
+    frames = std::make_unique<PatternFrames>(comm, *surface, cells, settings_.render,
                                              run.output_dir, restart_time);
   }
 

@@ -18,7 +18,8 @@ class TurkRdPipeline : public Pipeline {
 public:
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
-  /// The whole mesh on every rank; cells, couplings and frames divided among ranks (measured:
+  /// The whole mesh on rank 0 while it builds and splits it (the peak of the largest rank); each
+  /// rank's share of the triangles, cells, couplings and frames divided among ranks (measured:
   /// 1.4 GiB peak for 1.3 million triangles and 20,000 cells at 1 rank, estimated 1.7 GiB).
   MemoryEstimate estimate_memory(int ranks) const override {
     return geom::estimate_mesh_memory(settings_.mesh, "turk_rd.mesh", ranks, 400, 1000);
