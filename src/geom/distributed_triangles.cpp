@@ -93,25 +93,24 @@ LocalSurface LocalSurface::from_records(std::vector<TriangleRecord> records) {
   std::sort(records.begin(), records.end(),
             [](const TriangleRecord& a, const TriangleRecord& b) { return a.id < b.id; });
   LocalSurface local;
-  std::vector<std::pair<std::int64_t, Vec3>> vertices;
   for (const auto& r : records)
-    for (int c = 0; c < 3; ++c)
-      vertices.emplace_back(r.vertex[c], corner(r.corners, c));
-  std::sort(vertices.begin(), vertices.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [id, position] : vertices)
-    if (local.vertex_ids.empty() || local.vertex_ids.back() != id) {
-      local.vertex_ids.push_back(id);
-      local.mesh.positions.push_back(position);
-    }
+    local.vertex_ids.insert(local.vertex_ids.end(), r.vertex.begin(), r.vertex.end());
+  std::sort(local.vertex_ids.begin(), local.vertex_ids.end());
+  local.vertex_ids.erase(std::unique(local.vertex_ids.begin(), local.vertex_ids.end()),
+                         local.vertex_ids.end());
+  local.vertex_ids.shrink_to_fit();
+  local.mesh.positions.resize(local.vertex_ids.size());
   for (const auto& r : records) {
     TEXSIM_VERIFY(local.triangle_ids.empty() || local.triangle_ids.back() != r.id,
                   "LocalSurface: triangle " << r.id << " given twice");
     Triangle triangle{};
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       triangle[c] = std::int32_t(
           std::lower_bound(local.vertex_ids.begin(), local.vertex_ids.end(), r.vertex[c]) -
           local.vertex_ids.begin());
+      // Every record of a vertex carries the same position bits (the whole mesh's).
+      local.mesh.positions[std::size_t(triangle[c])] = corner(r.corners, c);
+    }
     local.mesh.triangles.push_back(triangle);
     local.triangle_ids.push_back(r.id);
     local.triangle_creases.push_back(r.creases);

@@ -345,6 +345,7 @@ void TurkRdPipeline::run(RunContext& ctx) {
     }
     frames = std::make_unique<PatternFrames>(comm, *surface, cells, settings_.render,
                                              run.output_dir, restart_time);
+    surface.reset(); // the cells and the render piece hold all the steps need
   }
 
   FieldMap earlier; // "<stage>_<species>" of finished stages
