@@ -150,9 +150,17 @@ DistributedTriangles DistributedTriangles::from_root(const par::Comm& comm,
       values[5 + axis] = bounds.hi[axis];
     }
   }
-  split.owned_ = par::exchange_records(comm, records);
+  // Rank 0 keeps its own share and slots instead of sending them to itself: the exchange copies
+  // what it sends twice, which at one rank was the whole mesh.
+  split.owned_ = std::move(records[comm.rank]);
+  records[comm.rank].clear();
+  for (auto& record : par::exchange_records(comm, records))
+    split.owned_.push_back(record);
   records = {};
-  split.slots_ = par::exchange_records(comm, slots);
+  split.slots_ = std::move(slots[comm.rank]);
+  slots[comm.rank].clear();
+  for (auto& slot : par::exchange_records(comm, slots))
+    split.slots_.push_back(slot);
   MPI_Bcast(counts.data(), 2, MPI_INT64_T, 0, comm.raw);
   MPI_Bcast(values.data(), int(values.size()), MPI_DOUBLE, 0, comm.raw);
   split.global_count_ = counts[0];
