@@ -3,9 +3,7 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "core/rng.hpp"
-#include "geom/mesh_measures.hpp"
 #include "geom/morton_order.hpp"
-#include "geom/random_surface_points.hpp"
 #include "geom/surface_window.hpp"
 
 #include <mpi.h>

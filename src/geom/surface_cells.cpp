@@ -1,7 +1,6 @@
 #include "geom/surface_cells.hpp"
 
 #include "core/error.hpp"
-#include "geom/mesh_measures.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
 #include "par/record_exchange.hpp"
