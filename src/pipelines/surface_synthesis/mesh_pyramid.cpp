@@ -9,6 +9,7 @@
 #include "geom/mesh_validation.hpp"
 #include "geom/restricted_delaunay.hpp"
 #include "par/collective.hpp"
+#include "par/record_exchange.hpp"
 
 #include <mpi.h>
 
@@ -83,31 +84,36 @@ std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTop
   return defects;
 }
 
+/// Level `level` retiled on rank 0's `surface` (`surface_topology` its topology, rank 0's).
 RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surface,
                           const geom::MeshTopology& surface_topology, std::uint64_t seed,
                           const MeshPyramidSettings& settings, int level) {
   const std::int64_t count = settings.finest_count >> (2 * level);
   // Level 0 on the surface itself; coarser levels on a simplification with a few triangles per
-  // cell, never more than the input has.
-  const std::int64_t target =
-      std::min<std::int64_t>(kTrianglesPerLevelVertex * count, surface.num_triangles());
-  geom::TriangleMesh placed_on;
+  // cell, never more than the input has. Rank 0 alone holds the surface and simplifies it.
+  geom::TriangleMesh simplified;
+  const geom::TriangleMesh* placed_on = &surface;
   par::run_collectively(comm, [&] {
-    placed_on = level == 0 || target >= surface.num_triangles()
-                    ? surface
-                    : geom::simplify(surface, std::size_t(target));
+    const std::int64_t target = kTrianglesPerLevelVertex * count;
+    if (comm.is_root() && level > 0 && target < surface.num_triangles()) {
+      simplified = geom::simplify(surface, std::size_t(target));
+      placed_on = &simplified;
+    }
   });
   geom::SurfaceCellsSettings cells_settings = settings.cells;
   cells_settings.count = count;
-  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_replicated(comm, placed_on),
+  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
                                  level_seed(seed, level), cells_settings);
-  const std::vector<geom::Vec3> positions = gather_cell_positions(comm, cells);
 
   RetiledLevel retiled;
+  retiled.mesh.positions = gather_cell_positions(comm, cells);
+  // Rank 0 connects the cells on the surface it holds; every rank gets its triangles.
   par::run_collectively(comm, [&] {
-    std::vector<std::int64_t> ids(positions.size());
+    if (!comm.is_root())
+      return;
+    std::vector<std::int64_t> ids(retiled.mesh.positions.size());
     std::iota(ids.begin(), ids.end(), std::int64_t{0});
-    retiled.mesh = geom::restricted_delaunay(placed_on, positions, ids);
+    retiled.mesh = geom::restricted_delaunay(*placed_on, retiled.mesh.positions, ids);
     const std::string defects = topology_defects(retiled.mesh, surface_topology);
     if (!defects.empty())
       TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "
@@ -117,6 +123,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
                          << "; its vertices are too few for the surface's thin parts: use more "
                             "surface_synthesis.vertices or fewer surface_synthesis.levels");
   });
+  par::broadcast_records(comm, retiled.mesh.triangles);
   retiled.normals = geom::vertex_normals(retiled.mesh);
   const auto offsets = cells.rank_offsets();
   retiled.rank_offsets.assign(offsets.begin(), offsets.end());
@@ -124,7 +131,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
       std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
   log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",
                      retiled.mesh.num_triangles(), " triangles, spacing ", retiled.spacing,
-                     " (placed on ", placed_on.num_triangles(), " triangles)"));
+                     " (placed on ", placed_on->num_triangles(), " triangles)"));
   return retiled;
 }
 
@@ -145,7 +152,7 @@ std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                        << " vertices leave " << coarsest
                        << " on the coarsest level (a quarter per level), fewer than "
                        << kMinLevelVertices << "; use fewer levels or more vertices");
-  const geom::MeshTopology surface_topology(surface);
+  const geom::MeshTopology surface_topology(comm.is_root() ? surface : geom::TriangleMesh{});
   std::vector<RetiledLevel> pyramid;
   for (int level = 0; level < settings.levels; ++level)
     pyramid.push_back(retile_level(comm, surface, surface_topology, seed, settings, level));

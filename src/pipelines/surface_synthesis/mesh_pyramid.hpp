@@ -49,7 +49,9 @@ struct RetiledLevel {
 /// not a consistently oriented manifold using every vertex with the input's Euler characteristic
 /// and boundary: the message gives the level, its vertex count and what was found. Every rank gets
 /// the same bytes for any rank or thread count (SurfaceCells ids do not depend on them).
-/// Collective over comm; every rank passes the same surface.
+/// Collective over comm. Only rank 0's `surface` is read (the others may pass an empty mesh): rank
+/// 0 simplifies it, splits each level's surface over the ranks for the retiling
+/// (geom::DistributedTriangles::from_root) and connects the cells, so no other rank holds it.
 /// The rank owning vertex `id` of a level split into the runs `rank_offsets` (RetiledLevel).
 inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
   return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -

@@ -85,13 +85,18 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   auto& report = ctx.report;
   const int levels = settings_.levels;
 
+  // The input surface M_s is rank 0's alone: it builds the mesh pyramid's levels from it and
+  // carries the result back onto it (surface outputs); the other ranks work on the levels.
   geom::TriangleMesh surface;
   {
     auto stage = ctx.timers.scope("mesh");
     geom::MeshBuildReport built;
-    par::run_collectively(comm,
-                          [&] { surface = geom::build_mesh(settings_.mesh, run.seed, &built); });
-    geom::record_mesh_build(built, report);
+    par::run_collectively(comm, [&] {
+      if (comm.is_root())
+        surface = geom::build_mesh(settings_.mesh, run.seed, &built);
+    });
+    if (comm.is_root()) // the summary and the log are rank 0's
+      geom::record_mesh_build(built, report);
   }
 
   std::vector<img::RgbImage> exemplar;
@@ -146,9 +151,14 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       if (orientation.mode == OrientationMode::random) {
         s = random;
       } else if (orientation.mode == OrientationMode::field) {
-        std::vector<geom::Vec3> field;
-        par::run_collectively(comm,
-                              [&] { field = field_vectors(orientation, settings_.mesh, level); });
+        // Rank 0 reads the mesh arrays and evaluates the field; every rank gets it.
+        std::vector<geom::Vec3> field(level.mesh.positions.size());
+        par::run_collectively(comm, [&] {
+          if (comm.is_root())
+            field = field_vectors(orientation, settings_.mesh, level);
+        });
+        static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
+        MPI_Bcast(field.data(), int(3 * field.size()), MPI_DOUBLE, 0, comm.raw);
         std::int64_t degenerate = 0;
         s = projected_directions(level.normals, field, &degenerate);
         if (degenerate > 0)
