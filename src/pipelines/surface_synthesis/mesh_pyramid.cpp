@@ -84,14 +84,25 @@ std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTop
   return defects;
 }
 
-/// Level `level` retiled on `placed_on` (rank 0's; `surface_topology`, the input's topology, too).
-RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& placed_on,
+/// Level `level` retiled on rank 0's `surface` (`surface_topology` its topology, rank 0's).
+RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surface,
                           const geom::MeshTopology& surface_topology, std::uint64_t seed,
                           const MeshPyramidSettings& settings, int level) {
   const std::int64_t count = settings.finest_count >> (2 * level);
+  // Level 0 on the surface itself; coarser levels on a simplification with a few triangles per
+  // cell, never more than the input has. Rank 0 alone holds the surface and simplifies it.
+  geom::TriangleMesh simplified;
+  const geom::TriangleMesh* placed_on = &surface;
+  par::run_collectively(comm, [&] {
+    const std::int64_t target = kTrianglesPerLevelVertex * count;
+    if (comm.is_root() && level > 0 && target < surface.num_triangles()) {
+      simplified = geom::simplify(surface, std::size_t(target));
+      placed_on = &simplified;
+    }
+  });
   geom::SurfaceCellsSettings cells_settings = settings.cells;
   cells_settings.count = count;
-  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, placed_on),
+  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
                                  level_seed(seed, level), cells_settings);
 
   RetiledLevel retiled;
@@ -102,7 +113,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& place
       return;
     std::vector<std::int64_t> ids(retiled.mesh.positions.size());
     std::iota(ids.begin(), ids.end(), std::int64_t{0});
-    retiled.mesh = geom::restricted_delaunay(placed_on, retiled.mesh.positions, ids);
+    retiled.mesh = geom::restricted_delaunay(*placed_on, retiled.mesh.positions, ids);
     const std::string defects = topology_defects(retiled.mesh, surface_topology);
     if (!defects.empty())
       TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "
@@ -120,7 +131,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& place
       std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
   log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",
                      retiled.mesh.num_triangles(), " triangles, spacing ", retiled.spacing,
-                     " (placed on ", placed_on.num_triangles(), " triangles)"));
+                     " (placed on ", placed_on->num_triangles(), " triangles)"));
   return retiled;
 }
 
@@ -143,22 +154,8 @@ std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                        << kMinLevelVertices << "; use fewer levels or more vertices");
   const geom::MeshTopology surface_topology(comm.is_root() ? surface : geom::TriangleMesh{});
   std::vector<RetiledLevel> pyramid;
-  // Level 0 on the surface itself; each coarser level on the previous level's surface simplified
-  // to a few triangles per cell (never refined). Starting from the previous level's surface, not
-  // the input, skips the collapses already done: Lindstrom-Turk's cost and placement are
-  // memoryless (they read only the current mesh). Rank 0 alone holds the surfaces.
-  geom::TriangleMesh simplified;
-  const geom::TriangleMesh* placed_on = &surface;
-  for (int level = 0; level < settings.levels; ++level) {
-    par::run_collectively(comm, [&] {
-      const std::int64_t target = kTrianglesPerLevelVertex * (settings.finest_count >> (2 * level));
-      if (comm.is_root() && level > 0 && target < placed_on->num_triangles()) {
-        simplified = geom::simplify(*placed_on, std::size_t(target));
-        placed_on = &simplified;
-      }
-    });
-    pyramid.push_back(retile_level(comm, *placed_on, surface_topology, seed, settings, level));
-  }
+  for (int level = 0; level < settings.levels; ++level)
+    pyramid.push_back(retile_level(comm, surface, surface_topology, seed, settings, level));
   return pyramid;
 }
 

@@ -39,10 +39,10 @@ struct RetiledLevel {
 /// Levels [0] (finest_count vertices) to [levels - 1] (finest_count / 4^(levels - 1), rounded
 /// down). Level k places its vertices with geom::SurfaceCells (relaxed, Morton-numbered; seed
 /// drawn from CounterRng(seed, kLevelSeedStream) keyed by k) on level 0's input surface itself
-/// and, for k > 0, on geom::simplify(level k - 1's surface, kTrianglesPerLevelVertex * count)
-/// when that has more triangles: about 8 triangles per cell keep the simplified shape well within
-/// a cell spacing, and the input is never refined. Every cell's centre is gathered by id and the
-/// level's mesh is geom::restricted_delaunay of them on the surface they were placed on.
+/// and, for k > 0, on geom::simplify(surface, min(input triangles, kTrianglesPerLevelVertex *
+/// count)): about 8 triangles per cell keep the simplified shape well within a cell spacing, and
+/// the input is never refined. Every cell's centre is gathered by id and the level's mesh is
+/// geom::restricted_delaunay of them on the surface they were placed on.
 ///
 /// Throws InputError (naming surface_synthesis.levels and surface_synthesis.vertices) when
 /// settings.levels < 1, the coarsest level would get fewer than 12 vertices, or a level's mesh is
