@@ -1,5 +1,6 @@
 #include "geom/restricted_delaunay.hpp"
 
+#include "core/error.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/restricted_voronoi.hpp"
 
@@ -27,27 +28,101 @@ double squared_distance(const Vec3& a, const Vec3& b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-/// A corner of a piece between two bisector edges: the cells of the piece's seed and of the two
-/// labels meet there.
-struct Meeting {
-  std::int32_t piece;
-  std::int32_t corner;
+/// What the dual needs of one piece once its polygon is gone: restricted_delaunay computes the
+/// pieces a chunk of triangles at a time and keeps only this, so the polygons of the whole surface
+/// are never held at once.
+struct PieceSummary {
+  std::int32_t triangle = -1;
+  std::int32_t seed = -1;
+  double area = 0.0;
+  std::uint32_t first_border = 0; ///< into DualInput::borders
+  std::uint32_t border_count = 0;
+  /// Bit c: a boundary edge of the piece runs along side c (corners c, c + 1) of its triangle, so
+  /// the piece may join its seed's piece across that side.
+  std::uint8_t linked_sides = 0;
 };
 
-/// Seeds whose cells share a border (of any length) somewhere on the surface, per seed.
-CsrAdjacency voronoi_neighbours(const std::vector<VoronoiPiece>& pieces, std::size_t num_seeds) {
-  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
-  for (const VoronoiPiece& piece : pieces)
-    for (const std::int32_t label : piece.edge_labels)
-      if (label >= 0) {
-        pairs.emplace_back(piece.seed, label);
-        pairs.emplace_back(label, piece.seed);
+/// A corner of a piece between two bisector edges: the cells of the piece's seed and of `a` and
+/// `b` meet at `point`.
+struct Meeting {
+  std::int32_t piece;
+  std::int32_t a;
+  std::int32_t b;
+  Vec3 point;
+};
+
+/// The pieces of every triangle, reduced to what the dual needs, in (triangle, seed id) order.
+struct DualInput {
+  std::vector<PieceSummary> pieces;
+  std::vector<std::pair<std::int32_t, double>> borders; ///< VoronoiPiece::borders, concatenated
+  std::vector<Meeting> meetings;
+  /// (seed, seed) pairs whose cells share a border somewhere, both ways, sorted and unique.
+  std::vector<std::pair<std::int32_t, std::int32_t>> neighbour_pairs;
+};
+
+/// The sides of its triangle along which `piece`'s boundary edges (label -1) run: for each such
+/// edge, the side nearest to both its ends.
+std::uint8_t linked_sides(const TriangleMesh& surface, const VoronoiPiece& piece) {
+  const Triangle& tri = surface.triangles[std::size_t(piece.triangle)];
+  const std::size_t n = piece.polygon.size();
+  std::uint8_t sides = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& from = piece.polygon[k];
+    const Vec3& to = piece.polygon[(k + 1) % n];
+    if (piece.edge_labels[k] >= 0 || from == to)
+      continue;
+    int side = 0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) {
+      const Vec3& a = surface.positions[std::size_t(tri[std::size_t(c)])];
+      const Vec3 along =
+          (surface.positions[std::size_t(tri[std::size_t((c + 1) % 3)])] - a).normalized();
+      const double off = std::max((from - a).cross(along).norm(), (to - a).cross(along).norm());
+      if (off < nearest) {
+        nearest = off;
+        side = c;
       }
+    }
+    sides = std::uint8_t(sides | (1u << side));
+  }
+  return sides;
+}
+
+/// Appends the summaries, borders, meetings and neighbour pairs of `pieces` (of triangles after
+/// every triangle already in `input`).
+void add_pieces(const TriangleMesh& surface, const std::vector<VoronoiPiece>& pieces,
+                DualInput& input) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+  for (const VoronoiPiece& piece : pieces) {
+    const auto index = std::int32_t(input.pieces.size());
+    input.pieces.push_back({piece.triangle, piece.seed, piece.area,
+                            std::uint32_t(input.borders.size()),
+                            std::uint32_t(piece.borders.size()), linked_sides(surface, piece)});
+    input.borders.insert(input.borders.end(), piece.borders.begin(), piece.borders.end());
+    const auto& labels = piece.edge_labels;
+    const std::size_t n = labels.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::int32_t before = labels[(k + n - 1) % n], after = labels[k];
+      // Equal labels: a border split in two by a round-off re-entry, not a meeting.
+      if (before >= 0 && after >= 0 && before != after)
+        input.meetings.push_back({index, before, after, piece.polygon[k]});
+      if (after >= 0) {
+        pairs.emplace_back(piece.seed, after);
+        pairs.emplace_back(after, piece.seed);
+      }
+    }
+  }
+  pairs.insert(pairs.end(), input.neighbour_pairs.begin(), input.neighbour_pairs.end());
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  input.neighbour_pairs = std::move(pairs);
+}
+
+/// Seeds whose cells share a border (of any length) somewhere on the surface, per seed.
+CsrAdjacency voronoi_neighbours(const DualInput& input, std::size_t num_seeds) {
   CsrAdjacency adjacency;
   adjacency.offsets.assign(num_seeds + 1, 0);
-  for (const auto& [from, to] : pairs) {
+  for (const auto& [from, to] : input.neighbour_pairs) {
     ++adjacency.offsets[std::size_t(from) + 1];
     adjacency.indices.push_back(to);
   }
@@ -62,14 +137,14 @@ CsrAdjacency voronoi_neighbours(const std::vector<VoronoiPiece>& pieces, std::si
 class PieceOwners {
 public:
   PieceOwners(const TriangleMesh& surface, std::span<const std::int64_t> seed_ids,
-              const std::vector<VoronoiPiece>& pieces)
-      : pieces_(pieces), first_piece_(std::size_t(surface.num_triangles()) + 1, 0),
-        owner_(pieces.size()) {
-    for (const VoronoiPiece& piece : pieces)
+              const DualInput& input)
+      : input_(input), first_piece_(std::size_t(surface.num_triangles()) + 1, 0),
+        owner_(input.pieces.size()) {
+    for (const PieceSummary& piece : input.pieces)
       ++first_piece_[std::size_t(piece.triangle) + 1];
     std::partial_sum(first_piece_.begin(), first_piece_.end(), first_piece_.begin());
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-      owner_[p] = pieces[p].seed;
+    for (std::size_t p = 0; p < input.pieces.size(); ++p)
+      owner_[p] = input.pieces[p].seed;
     hand_over_orphans(seed_ids, components(surface));
   }
 
@@ -91,7 +166,7 @@ private:
 
   std::int64_t piece_of(std::int32_t cell, std::int32_t t) const {
     for (std::size_t p = first_piece_[std::size_t(t)]; p < first_piece_[std::size_t(t) + 1]; ++p)
-      if (pieces_[p].seed == cell)
+      if (input_.pieces[p].seed == cell)
         return std::int64_t(p);
     return -1;
   }
@@ -100,35 +175,19 @@ private:
   /// touch their shared edge along a segment (the cell, convex, meets the edge in one segment).
   std::vector<std::size_t> components(const TriangleMesh& surface) const {
     const MeshTopology topology(surface);
-    std::vector<std::size_t> parent(pieces_.size());
+    const auto& pieces = input_.pieces;
+    std::vector<std::size_t> parent(pieces.size());
     std::iota(parent.begin(), parent.end(), std::size_t{0});
     const auto root = [&](std::size_t p) {
       while (parent[p] != p)
         p = parent[p] = parent[parent[p]];
       return p;
     };
-    for (std::size_t p = 0; p < pieces_.size(); ++p) {
-      const VoronoiPiece& piece = pieces_[p];
-      const Triangle& tri = surface.triangles[std::size_t(piece.triangle)];
-      const std::size_t n = piece.polygon.size();
-      for (std::size_t k = 0; k < n; ++k) {
-        const Vec3& from = piece.polygon[k];
-        const Vec3& to = piece.polygon[(k + 1) % n];
-        if (piece.edge_labels[k] >= 0 || from == to)
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      const PieceSummary& piece = pieces[p];
+      for (int side = 0; side < 3; ++side) {
+        if (!(piece.linked_sides & (1u << side)))
           continue;
-        // The side of the triangle this boundary edge lies on: the one nearest to both its ends.
-        int side = 0;
-        double nearest = std::numeric_limits<double>::infinity();
-        for (int c = 0; c < 3; ++c) {
-          const Vec3& a = surface.positions[std::size_t(tri[std::size_t(c)])];
-          const Vec3 along =
-              (surface.positions[std::size_t(tri[std::size_t((c + 1) % 3)])] - a).normalized();
-          const double off = std::max((from - a).cross(along).norm(), (to - a).cross(along).norm());
-          if (off < nearest) {
-            nearest = off;
-            side = c;
-          }
-        }
         const std::int32_t edge =
             topology.triangle_edges(piece.triangle)[std::size_t(side + 2) % 3];
         const auto across = topology.edge_triangles(edge);
@@ -140,30 +199,32 @@ private:
           parent[root(p)] = root(std::size_t(q));
       }
     }
-    for (std::size_t p = 0; p < pieces_.size(); ++p)
+    for (std::size_t p = 0; p < pieces.size(); ++p)
       parent[p] = root(p);
     return parent;
   }
 
   void hand_over_orphans(std::span<const std::int64_t> seed_ids,
                          const std::vector<std::size_t>& root) {
-    std::vector<double> component_area(pieces_.size(), 0.0);
-    for (std::size_t p = 0; p < pieces_.size(); ++p)
-      component_area[root[p]] += pieces_[p].area;
+    const auto& pieces = input_.pieces;
+    std::vector<double> component_area(pieces.size(), 0.0);
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      component_area[root[p]] += pieces[p].area;
     // Each seed's largest component (exact ties: the first in piece order).
     std::vector<std::int64_t> main_root(seed_ids.size(), -1);
-    for (std::size_t p = 0; p < pieces_.size(); ++p) {
-      std::int64_t& best = main_root[std::size_t(pieces_[p].seed)];
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      std::int64_t& best = main_root[std::size_t(pieces[p].seed)];
       if (best < 0 || component_area[root[p]] > component_area[std::size_t(best)])
         best = std::int64_t(root[p]);
     }
     // Border lengths of every other component with its neighbours, summed in piece order.
     std::map<std::size_t, std::map<std::int32_t, double>> orphan_borders;
-    for (std::size_t p = 0; p < pieces_.size(); ++p)
-      if (std::int64_t(root[p]) != main_root[std::size_t(pieces_[p].seed)]) {
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      if (std::int64_t(root[p]) != main_root[std::size_t(pieces[p].seed)]) {
         auto& borders = orphan_borders[root[p]];
-        for (const auto& [other, length] : pieces_[p].borders)
-          borders[other] += length;
+        const auto first = input_.borders.begin() + pieces[p].first_border;
+        for (auto border = first; border != first + pieces[p].border_count; ++border)
+          borders[border->first] += border->second;
       }
     std::map<std::size_t, std::int32_t> heir;
     for (const auto& [component, borders] : orphan_borders) {
@@ -176,12 +237,12 @@ private:
       if (best >= 0)
         heir[component] = best;
     }
-    for (std::size_t p = 0; p < pieces_.size(); ++p)
+    for (std::size_t p = 0; p < pieces.size(); ++p)
       if (const auto found = heir.find(root[p]); found != heir.end())
         owner_[p] = found->second;
   }
 
-  const std::vector<VoronoiPiece>& pieces_;
+  const DualInput& input_;
   std::vector<std::size_t> first_piece_; ///< per triangle: its first piece (pieces sorted by it)
   std::vector<std::int32_t> owner_;      ///< per piece
 };
@@ -189,16 +250,15 @@ private:
 class MeetingTriangulator {
 public:
   MeetingTriangulator(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                      std::span<const std::int64_t> seed_ids,
-                      const std::vector<VoronoiPiece>& pieces)
-      : surface_(surface), seeds_(seeds), ids_(seed_ids), pieces_(pieces),
-        neighbours_(voronoi_neighbours(pieces, seeds.size())), owners_(surface, seed_ids, pieces) {}
+                      std::span<const std::int64_t> seed_ids, const DualInput& input)
+      : surface_(surface), seeds_(seeds), ids_(seed_ids), input_(input),
+        neighbours_(voronoi_neighbours(input, seeds.size())), owners_(surface, seed_ids, input) {}
 
   /// The triangles of one meeting, counter-clockwise: (seed, a, b) when exactly three cells meet
   /// there, else the fan of every meeting seed from the smallest id; then each cell replaced by
   /// the one its piece there counts for (PieceOwners), triangles left with a repeated cell dropped.
   std::vector<Triangle> triangles(const Meeting& meeting) const {
-    const std::int32_t t = pieces_[std::size_t(meeting.piece)].triangle;
+    const std::int32_t t = input_.pieces[std::size_t(meeting.piece)].triangle;
     std::vector<Triangle> result;
     for (Triangle triangle : meeting_triangles(meeting)) {
       for (std::int32_t& cell : triangle)
@@ -211,13 +271,11 @@ public:
 
 private:
   std::vector<Triangle> meeting_triangles(const Meeting& meeting) const {
-    const VoronoiPiece& piece = pieces_[std::size_t(meeting.piece)];
-    const std::size_t n = piece.polygon.size();
-    const std::size_t k = std::size_t(meeting.corner);
+    const PieceSummary& piece = input_.pieces[std::size_t(meeting.piece)];
     const std::int32_t i = piece.seed;
-    const std::int32_t a = piece.edge_labels[(k + n - 1) % n];
-    const std::int32_t b = piece.edge_labels[k];
-    const Vec3& point = piece.polygon[k];
+    const std::int32_t a = meeting.a;
+    const std::int32_t b = meeting.b;
+    const Vec3& point = meeting.point;
     std::vector<std::int32_t> meeting_seeds = seeds_meeting_at(point, i, a, b);
     if (meeting_seeds.size() == 3)
       return {Triangle{i, a, b}};
@@ -273,7 +331,7 @@ private:
   const TriangleMesh& surface_;
   std::span<const Vec3> seeds_;
   std::span<const std::int64_t> ids_;
-  const std::vector<VoronoiPiece>& pieces_;
+  const DualInput& input_;
   CsrAdjacency neighbours_;
   PieceOwners owners_;
 };
@@ -303,25 +361,23 @@ Sighting sighting_of(const Triangle& t, std::span<const std::int64_t> seed_ids) 
 } // namespace
 
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids) {
-  std::vector<std::int32_t> all_triangles(std::size_t(surface.num_triangles()));
-  std::iota(all_triangles.begin(), all_triangles.end(), 0);
-  const std::vector<VoronoiPiece> pieces =
-      restricted_voronoi_pieces(surface, all_triangles, seeds, seed_ids, true);
-
-  std::vector<Meeting> meetings;
-  for (std::size_t p = 0; p < pieces.size(); ++p) {
-    const auto& labels = pieces[p].edge_labels;
-    const std::size_t n = labels.size();
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::int32_t before = labels[(k + n - 1) % n], after = labels[k];
-      // Equal labels: a border split in two by a round-off re-entry, not a meeting.
-      if (before >= 0 && after >= 0 && before != after)
-        meetings.push_back({std::int32_t(p), std::int32_t(k)});
-    }
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles) {
+  TEXSIM_VERIFY(chunk_triangles > 0,
+                "restricted_delaunay: chunk_triangles " << chunk_triangles << " is not positive");
+  DualInput input;
+  std::vector<std::int32_t> chunk;
+  for (std::int32_t first = 0; first < surface.num_triangles(); first += chunk_triangles) {
+    chunk.resize(std::size_t(std::min(chunk_triangles, surface.num_triangles() - first)));
+    std::iota(chunk.begin(), chunk.end(), first);
+    add_pieces(surface, restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true), input);
   }
+  TEXSIM_VERIFY(input.pieces.size() < std::size_t(std::numeric_limits<std::int32_t>::max()) &&
+                    input.borders.size() < std::size_t(std::numeric_limits<std::uint32_t>::max()),
+                "restricted_delaunay: more than 2^31 Voronoi pieces");
 
-  const MeetingTriangulator triangulator(surface, seeds, seed_ids, pieces);
+  const MeetingTriangulator triangulator(surface, seeds, seed_ids, input);
+  const auto& meetings = input.meetings;
   std::vector<std::vector<Triangle>> found(meetings.size());
   const auto count = static_cast<std::int64_t>(meetings.size());
 #pragma omp parallel for schedule(static)

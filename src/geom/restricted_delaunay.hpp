@@ -11,6 +11,9 @@
 
 namespace texsim::geom {
 
+/// restricted_delaunay's default chunk: the polygons of this many triangles at a time.
+inline constexpr std::int32_t kRestrictedDelaunayChunk = 1 << 16;
+
 /// Vertex i of the result is seeds[i] (same order). A triangle joins the seeds whose cells meet at
 /// a vertex of the restricted Voronoi diagram inside `surface` (a polygon vertex of a piece between
 /// two bisector edges, VoronoiPiece::edge_labels), counter-clockwise seen from the side the
@@ -44,7 +47,12 @@ namespace texsim::geom {
 ///   1e-16-relative coincidence); the caller's manifold check (MeshTopology) reports the hole.
 /// It does not check manifoldness. Throws what restricted_voronoi_pieces() throws (repeated ids,
 /// non-finite seeds, cells not certified). OpenMP inside; not collective.
+///
+/// The pieces are computed `chunk_triangles` triangles at a time and reduced to what the dual
+/// needs (about 32 bytes a piece, plus its borders and meetings), so the polygons of the whole
+/// surface are never held at once; the result does not depend on the chunk size.
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids);
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles = kRestrictedDelaunayChunk);
 
 } // namespace texsim::geom

@@ -1,7 +1,7 @@
 // The retiled mesh (dual of the restricted Voronoi diagram) of relaxed points: a manifold with the
 // surface's Euler characteristic, oriented like the surface, independent of triangle and seed
-// order; square lattices (four cells per Voronoi vertex) split consistently by ids; and the
-// Voronoi pieces' edge labels name seeds equidistant from their edges.
+// order, threads and chunk size; square lattices (four cells per Voronoi vertex) split
+// consistently by ids; and the Voronoi pieces' edge labels name seeds equidistant from their edges.
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
@@ -148,6 +148,14 @@ TEST(RestrictedDelaunay, IndependentOfTriangleOrderSeedOrderAndThreads) {
   const TriangleMesh threaded = restricted_delaunay(ring, seeds.points, seeds.ids);
   omp_set_num_threads(threads);
   EXPECT_EQ(threaded.triangles, reference.triangles);
+
+  // The pieces taken a chunk of triangles at a time: hand-overs and meetings whose pieces lie in
+  // other chunks (one triangle per chunk, chunks that split the pieces of a cell unevenly).
+  ASSERT_LT(ring.num_triangles(), kRestrictedDelaunayChunk);
+  for (const std::int32_t chunk : {1, 7, 1000})
+    EXPECT_EQ(restricted_delaunay(ring, seeds.points, seeds.ids, chunk).triangles,
+              reference.triangles)
+        << "chunks of " << chunk << " triangles";
 }
 
 // Seeds at the centres of an m x m lattice of unit squares on a flat square: every inner lattice
