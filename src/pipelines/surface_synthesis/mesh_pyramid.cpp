@@ -57,7 +57,20 @@ std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
 
 /// What keeps `mesh` from being a retiling of a surface with `input`'s topology, in words; empty
 /// when nothing does.
-std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTopology& input) {
+/// What a retiling must share with the input surface: kept instead of the input's whole
+/// MeshTopology, which would stay on rank 0 through every level.
+struct SurfaceShape {
+  std::size_t boundary_edges = 0;
+  bool closed = false;
+  std::int64_t euler_characteristic = 0;
+
+  SurfaceShape() = default;
+  explicit SurfaceShape(const geom::MeshTopology& topology)
+      : boundary_edges(topology.boundary_edges().size()), closed(topology.is_closed()),
+        euler_characteristic(topology.euler_characteristic()) {}
+};
+
+std::string topology_defects(const geom::TriangleMesh& mesh, const SurfaceShape& input) {
   const geom::MeshTopology topology(mesh);
   std::string defects;
   const auto add = [&](const std::string& what) {
@@ -69,13 +82,13 @@ std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTop
     add(log::cat(topology.non_manifold_vertices().size(), " non-manifold vertices"));
   if (!topology.isolated_vertices().empty())
     add(log::cat(topology.isolated_vertices().size(), " vertices in no triangle"));
-  if (topology.boundary_edges().size() != input.boundary_edges().size() &&
-      (topology.is_closed() || input.is_closed()))
+  if (topology.boundary_edges().size() != input.boundary_edges &&
+      (topology.is_closed() || input.closed))
     add(log::cat(topology.boundary_edges().size(), " boundary edges (the surface has ",
-                 input.boundary_edges().size(), ")"));
-  if (topology.euler_characteristic() != input.euler_characteristic())
+                 input.boundary_edges, ")"));
+  if (topology.euler_characteristic() != input.euler_characteristic)
     add(log::cat("Euler characteristic ", topology.euler_characteristic(), " (the surface's is ",
-                 input.euler_characteristic(), ")"));
+                 input.euler_characteristic, ")"));
   if (defects.empty()) {
     const auto orientation = geom::validate(mesh).inconsistent_orientation;
     if (orientation)
@@ -84,9 +97,9 @@ std::string topology_defects(const geom::TriangleMesh& mesh, const geom::MeshTop
   return defects;
 }
 
-/// Level `level` retiled on rank 0's `surface` (`surface_topology` its topology, rank 0's).
+/// Level `level` retiled on rank 0's `surface` (`surface_shape` its shape, rank 0's).
 RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surface,
-                          const geom::MeshTopology& surface_topology, std::uint64_t seed,
+                          const SurfaceShape& surface_shape, std::uint64_t seed,
                           const MeshPyramidSettings& settings, int level) {
   const std::int64_t count = settings.finest_count >> (2 * level);
   // Level 0 on the surface itself; coarser levels on a simplification with a few triangles per
@@ -114,7 +127,7 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
     std::vector<std::int64_t> ids(retiled.mesh.positions.size());
     std::iota(ids.begin(), ids.end(), std::int64_t{0});
     retiled.mesh = geom::restricted_delaunay(*placed_on, retiled.mesh.positions, ids);
-    const std::string defects = topology_defects(retiled.mesh, surface_topology);
+    const std::string defects = topology_defects(retiled.mesh, surface_shape);
     if (!defects.empty())
       TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "
                          << level << " of " << settings.levels << " (" << count
@@ -152,10 +165,11 @@ std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                        << " vertices leave " << coarsest
                        << " on the coarsest level (a quarter per level), fewer than "
                        << kMinLevelVertices << "; use fewer levels or more vertices");
-  const geom::MeshTopology surface_topology(comm.is_root() ? surface : geom::TriangleMesh{});
+  const SurfaceShape surface_shape =
+      comm.is_root() ? SurfaceShape(geom::MeshTopology(surface)) : SurfaceShape();
   std::vector<RetiledLevel> pyramid;
   for (int level = 0; level < settings.levels; ++level)
-    pyramid.push_back(retile_level(comm, surface, surface_topology, seed, settings, level));
+    pyramid.push_back(retile_level(comm, surface, surface_shape, seed, settings, level));
   return pyramid;
 }
 
