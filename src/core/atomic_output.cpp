@@ -41,26 +41,43 @@ void remove_quietly(const std::filesystem::path& path) {
   std::filesystem::remove(path, ignored);
 }
 
-/// Writes all of `contents` to a new file at `path`.
-void write_contents(const std::filesystem::path& path, std::string_view contents,
-                    const std::filesystem::path& named) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  TEXSIM_VERIFY(fd >= 0, named.string()
-                             << ": cannot create " << path.string() << ": " << errno_text(errno));
-  std::size_t done = 0;
-  while (done < contents.size()) {
-    const ssize_t written = ::write(fd, contents.data() + done, contents.size() - done);
-    if (written < 0 && errno == EINTR)
-      continue;
-    if (written <= 0) {
-      const int code = written < 0 ? errno : EIO;
-      ::close(fd);
-      TEXSIM_VERIFY(false, named.string() << ": cannot write: " << errno_text(code));
-    }
-    done += static_cast<std::size_t>(written);
+/// A new file at `path`, written in parts; errors name `named`.
+class FileSink {
+public:
+  FileSink(const std::filesystem::path& path, const std::filesystem::path& named)
+      : named_(named), fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)) {
+    TEXSIM_VERIFY(fd_ >= 0, named.string() << ": cannot create " << path.string() << ": "
+                                           << errno_text(errno));
   }
-  TEXSIM_VERIFY(::close(fd) == 0, named.string() << ": cannot write: " << errno_text(errno));
-}
+  FileSink(const FileSink&) = delete;
+  FileSink& operator=(const FileSink&) = delete;
+  ~FileSink() {
+    if (fd_ >= 0)
+      ::close(fd_);
+  }
+
+  void write(std::string_view contents) {
+    std::size_t done = 0;
+    while (done < contents.size()) {
+      const ssize_t written = ::write(fd_, contents.data() + done, contents.size() - done);
+      if (written < 0 && errno == EINTR)
+        continue;
+      TEXSIM_VERIFY(written > 0,
+                    named_.string() << ": cannot write: " << errno_text(written < 0 ? errno : EIO));
+      done += static_cast<std::size_t>(written);
+    }
+  }
+
+  void close() {
+    const int fd = fd_;
+    fd_ = -1;
+    TEXSIM_VERIFY(::close(fd) == 0, named_.string() << ": cannot write: " << errno_text(errno));
+  }
+
+private:
+  std::filesystem::path named_;
+  int fd_;
+};
 
 } // namespace
 
@@ -115,8 +132,15 @@ void write_atomically(const std::filesystem::path& path,
 }
 
 void write_atomically(const std::filesystem::path& path, std::string_view contents) {
+  write_atomically_in_parts(path, [&](const TextSink& emit) { emit(contents); });
+}
+
+void write_atomically_in_parts(const std::filesystem::path& path,
+                               const std::function<void(const TextSink& emit)>& produce) {
   write_atomically(path, [&](const std::filesystem::path& temporary) {
-    write_contents(temporary, contents, path);
+    FileSink file(temporary, path);
+    produce([&](std::string_view part) { file.write(part); });
+    file.close();
   });
 }
 

@@ -48,4 +48,13 @@ void write_atomically(const std::filesystem::path& path,
 /// file cannot be written. Not collective.
 void write_atomically(const std::filesystem::path& path, std::string_view contents);
 
+/// Receives the parts of a text, in order.
+using TextSink = std::function<void(std::string_view part)>;
+
+/// Writes to `path` atomically, as above, the parts `produce` passes to `emit` in order, each
+/// written as it comes: for texts too large to hold whole (a large mesh as OBJ). Throws
+/// texsim::Error naming `path` if the file cannot be written. Not collective.
+void write_atomically_in_parts(const std::filesystem::path& path,
+                               const std::function<void(const TextSink& emit)>& produce);
+
 } // namespace texsim

@@ -100,19 +100,32 @@ std::vector<std::int64_t> texture_vertices(const TexturedSurface& surface,
   return corner_vt;
 }
 
-std::string obj_text(const TexturedSurface& surface, const ObjMaterial& material,
-                     const std::string& mtl_name) {
+/// Bytes of OBJ text gathered before they are handed on: the text of a large surface is never
+/// held whole.
+constexpr std::size_t kObjPartBytes = std::size_t{1} << 20;
+
+void emit_obj_text(const TexturedSurface& surface, const ObjMaterial& material,
+                   const std::string& mtl_name, const TextSink& emit) {
   std::string out = "# texsim textured surface\nmtllib " + mtl_name + "\n";
+  const auto pass_on_full = [&] {
+    if (out.size() >= kObjPartBytes) {
+      emit(out);
+      out.clear();
+    }
+  };
   for (std::size_t v = 0; v < surface.xyz.size(); v += 3) {
     append_numbers(out, "v", surface.xyz.subspan(v, 3));
+    pass_on_full();
   }
   std::vector<std::array<double, 2>> uv_of_vt;
   const std::vector<std::int64_t> corner_vt = texture_vertices(surface, uv_of_vt);
   for (const auto& uv : uv_of_vt) {
     append_numbers(out, "vt", uv);
+    pass_on_full();
   }
   for (std::size_t v = 0; v < surface.normals.size(); v += 3) {
     append_numbers(out, "vn", surface.normals.subspan(v, 3));
+    pass_on_full();
   }
   out += "usemtl " + material.name + "\n";
   const bool with_normals = !surface.normals.empty();
@@ -125,9 +138,10 @@ std::string obj_text(const TexturedSurface& surface, const ObjMaterial& material
     }
     if (corner % 3 == 2) {
       out += '\n';
+      pass_on_full();
     }
   }
-  return out;
+  emit(out);
 }
 
 } // namespace
@@ -138,7 +152,8 @@ void write_textured_obj(const std::filesystem::path& obj_path, const TexturedSur
   const std::string mtl_name = mtl_path.filename().string();
   check_surface(obj_path, surface, material, mtl_name);
   write_atomically(mtl_path, mtl_text(material));
-  write_atomically(obj_path, obj_text(surface, material, mtl_name));
+  write_atomically_in_parts(
+      obj_path, [&](const TextSink& emit) { emit_obj_text(surface, material, mtl_name, emit); });
 }
 
 } // namespace texsim::io

@@ -95,6 +95,26 @@ TEST(AtomicOutput, AWriterThrowingMidwayLeavesThePreviousFileAndNoTemporary) {
   EXPECT_EQ(entries(dir), std::vector<std::string>{"frame_0.vtu"});
 }
 
+TEST(AtomicOutput, PartsAreWrittenInOrderAndAProducerThrowingMidwayKeepsThePreviousFile) {
+  const auto dir = test::scratch_dir("atomic_parts");
+  const auto path = dir / "textured.obj";
+  write_atomically_in_parts(path, [](const TextSink& emit) {
+    emit("v 0 0 0\n");
+    emit(std::string(300000, 'x'));
+    emit("");
+    emit("\nf 1 1 1\n");
+  });
+  EXPECT_EQ(read_text(path), "v 0 0 0\n" + std::string(300000, 'x') + "\nf 1 1 1\n");
+  EXPECT_THROW(write_atomically_in_parts(path,
+                                         [](const TextSink& emit) {
+                                           emit("v 1 1 1\n");
+                                           throw std::runtime_error("out of memory");
+                                         }),
+               std::runtime_error);
+  EXPECT_EQ(read_text(path), "v 0 0 0\n" + std::string(300000, 'x') + "\nf 1 1 1\n");
+  EXPECT_EQ(entries(dir), std::vector<std::string>{"textured.obj"});
+}
+
 TEST(AtomicOutput, AWriterThatWritesNothingIsAnErrorNamingTheFile) {
   const auto dir = test::scratch_dir("atomic_writer_silent");
   const auto path = dir / "slices.png";
