@@ -82,6 +82,15 @@ struct WholeMesh {
   }
 };
 
+/// `received` after `kept`: taken over whole when `kept` is empty.
+template <typename Record>
+void append_received(std::vector<Record>& kept, std::vector<Record>&& received) {
+  if (kept.empty())
+    kept = std::move(received);
+  else
+    kept.insert(kept.end(), received.begin(), received.end());
+}
+
 } // namespace
 
 std::int32_t LocalSurface::local_triangle(std::int64_t id) const {
@@ -151,16 +160,15 @@ DistributedTriangles DistributedTriangles::from_root(const par::Comm& comm,
     }
   }
   // Rank 0 keeps its own share and slots instead of sending them to itself: the exchange copies
-  // what it sends twice, which at one rank was the whole mesh.
+  // what it sends twice, which at one rank was the whole mesh. The other ranks keep what they
+  // receive as it came (appending it one by one held it twice, and more while the list grew).
   split.owned_ = std::move(records[comm.rank]);
   records[comm.rank].clear();
-  for (auto& record : par::exchange_records(comm, records))
-    split.owned_.push_back(record);
+  append_received(split.owned_, par::exchange_records(comm, records));
   records = {};
   split.slots_ = std::move(slots[comm.rank]);
   slots[comm.rank].clear();
-  for (auto& slot : par::exchange_records(comm, slots))
-    split.slots_.push_back(slot);
+  append_received(split.slots_, par::exchange_records(comm, slots));
   MPI_Bcast(counts.data(), 2, MPI_INT64_T, 0, comm.raw);
   MPI_Bcast(values.data(), int(values.size()), MPI_DOUBLE, 0, comm.raw);
   split.global_count_ = counts[0];
