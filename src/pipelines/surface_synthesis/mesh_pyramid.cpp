@@ -55,8 +55,6 @@ std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
   return positions;
 }
 
-/// What keeps `mesh` from being a retiling of a surface with `input`'s topology, in words; empty
-/// when nothing does.
 /// What a retiling must share with the input surface: kept instead of the input's whole
 /// MeshTopology, which would stay on rank 0 through every level.
 struct SurfaceShape {
@@ -70,6 +68,8 @@ struct SurfaceShape {
         euler_characteristic(topology.euler_characteristic()) {}
 };
 
+/// What keeps `mesh` from being a retiling of a surface of `input`'s shape, in words; empty when
+/// nothing does.
 std::string topology_defects(const geom::TriangleMesh& mesh, const SurfaceShape& input) {
   const geom::MeshTopology topology(mesh);
   std::string defects;

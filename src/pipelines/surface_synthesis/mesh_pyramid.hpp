@@ -36,6 +36,13 @@ struct RetiledLevel {
   double spacing = 0; ///< d_L = sqrt(2 A_L), A_L the mean triangle area of `mesh` (Section 3.3)
 };
 
+/// The rank owning vertex `id` of a level split into the runs `rank_offsets` (RetiledLevel).
+inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
+  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
+             rank_offsets.begin()) -
+         1;
+}
+
 /// Levels [0] (finest_count vertices) to [levels - 1] (finest_count / 4^(levels - 1), rounded
 /// down). Level k places its vertices with geom::SurfaceCells (relaxed, Morton-numbered; seed
 /// drawn from CounterRng(seed, kLevelSeedStream) keyed by k) on level 0's input surface itself
@@ -52,13 +59,6 @@ struct RetiledLevel {
 /// Collective over comm. Only rank 0's `surface` is read (the others may pass an empty mesh): rank
 /// 0 simplifies it, splits each level's surface over the ranks for the retiling
 /// (geom::DistributedTriangles::from_root) and connects the cells, so no other rank holds it.
-/// The rank owning vertex `id` of a level split into the runs `rank_offsets` (RetiledLevel).
-inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
-  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
-             rank_offsets.begin()) -
-         1;
-}
-
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings);
