@@ -14,7 +14,11 @@
 
 #include <gtest/gtest.h>
 
+#include <mpi.h>
+
+#include <algorithm>
 #include <cstring>
+#include <span>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -93,6 +97,21 @@ Run synthesize(const par::Comm& comm, const Prepared& prepared,
   return run;
 }
 
+/// Every vertex's class of `order` on every rank.
+std::vector<std::int32_t> all_classes(const par::Comm& comm,
+                                      std::span<const std::int64_t> rank_offsets,
+                                      const SynthesisOrder& order) {
+  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
+  for (int r = 0; r < comm.size; ++r) {
+    offsets[std::size_t(r)] = int(rank_offsets[std::size_t(r)]);
+    counts[std::size_t(r)] = int(rank_offsets[std::size_t(r) + 1] - rank_offsets[std::size_t(r)]);
+  }
+  std::vector<std::int32_t> classes(std::size_t(rank_offsets.back()));
+  MPI_Allgatherv(order.owned_class.data(), int(order.owned_class.size()), MPI_INT32_T,
+                 classes.data(), counts.data(), offsets.data(), MPI_INT32_T, comm.raw);
+  return classes;
+}
+
 TEST(Synthesis, NoClassMemberReadsAnother) {
   const par::Comm comm = par::world();
   const Prepared prepared(comm, sphere_pyramid(comm, 2048), false, 2);
@@ -103,18 +122,64 @@ TEST(Synthesis, NoClassMemberReadsAnother) {
       build_level_stencils(level, prepared.topologies[0], prepared.directions[0],
                            &prepared.pyramid[1], &prepared.topologies[1], prepared.parents[0],
                            NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
-  const auto order = synthesis_order(comm, stencils, level.mesh.num_vertices(), 3, 0, Pass::refine);
+  const auto order = synthesis_order(comm, stencils, level.rank_offsets, 3, 0, Pass::refine);
   EXPECT_GT(order.classes, 1);
+  const auto class_of = all_classes(comm, level.rank_offsets, order);
   std::int64_t reads = 0;
   for (std::int64_t local = 0; local < owned; ++local)
     for (const auto& sample : stencils.current_of(local))
       for (std::size_t k = 0; k < 3; ++k)
         if (sample.covered() && sample.weights[k] != 0 && sample.vertices[k] != first + local) {
           ++reads;
-          EXPECT_NE(order.class_of[std::size_t(sample.vertices[k])],
-                    order.class_of[std::size_t(first + local)]);
+          EXPECT_NE(class_of[std::size_t(sample.vertices[k])],
+                    class_of[std::size_t(first + local)]);
         }
   EXPECT_GT(reads, 0);
+}
+
+// The distributed colouring equals the sequential greedy colouring that visits the vertices in
+// priority order, built here from the whole level's stencils.
+TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
+  const par::Comm comm = par::world();
+  const Prepared prepared(comm, sphere_pyramid(comm, 2048), false, 2);
+  const auto& level = prepared.pyramid[0];
+  const auto n = level.mesh.num_vertices();
+  const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
+  const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
+    return build_level_stencils(level, prepared.topologies[0], prepared.directions[0],
+                                &prepared.pyramid[1], &prepared.topologies[1], prepared.parents[0],
+                                layout, first, owned);
+  };
+  const auto first = level.rank_offsets[std::size_t(comm.rank)];
+  const auto order = synthesis_order(
+      comm, stencils_of(first, level.rank_offsets[std::size_t(comm.rank) + 1] - first),
+      level.rank_offsets, 3, 0, Pass::refine);
+  const auto classes = all_classes(comm, level.rank_offsets, order);
+
+  const auto whole = stencils_of(0, n);
+  std::vector<std::vector<std::int64_t>> neighbours(static_cast<std::size_t>(n));
+  for (std::int64_t u = 0; u < n; ++u)
+    for (const auto& sample : whole.current_of(u))
+      for (std::size_t k = 0; k < 3; ++k)
+        if (sample.covered() && sample.weights[k] != 0 && sample.vertices[k] != u) {
+          neighbours[std::size_t(u)].push_back(sample.vertices[k]);
+          neighbours[std::size_t(sample.vertices[k])].push_back(u);
+        }
+  std::vector<std::pair<std::uint64_t, std::int64_t>> visits;
+  for (std::int64_t v = 0; v < n; ++v)
+    visits.push_back({synthesis_priority(3, 0, Pass::refine, v), v});
+  std::sort(visits.begin(), visits.end());
+  std::vector<std::int32_t> expected(std::size_t(n), -1);
+  for (const auto& [key, v] : visits) {
+    std::vector<bool> taken(neighbours[std::size_t(v)].size() + 1, false);
+    for (const auto u : neighbours[std::size_t(v)])
+      if (expected[std::size_t(u)] >= 0 && std::size_t(expected[std::size_t(u)]) < taken.size())
+        taken[std::size_t(expected[std::size_t(u)])] = true;
+    expected[std::size_t(v)] =
+        std::int32_t(std::find(taken.begin(), taken.end(), false) - taken.begin());
+  }
+  EXPECT_EQ(classes, expected);
+  EXPECT_EQ(order.classes, *std::max_element(expected.begin(), expected.end()) + 1);
 }
 
 TEST(Synthesis, SameBytesOnAnyRankCountAsOnOne) {

@@ -2,6 +2,7 @@
 
 #include "core/log.hpp"
 #include "io/parallel_surface_writer.hpp"
+#include "par/id_runs.hpp"
 
 #include <algorithm>
 
@@ -59,7 +60,7 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
     const auto& d = directions[std::size_t(v)];
     s.insert(s.end(), {d.x(), d.y(), d.z()});
     ids.push_back(v);
-    owner.push_back(owner_of(retiled.rank_offsets, v));
+    owner.push_back(par::owner_of(retiled.rank_offsets, v));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};
   piece.point_fields = {{"color", 3, std::span<const double>(colour)},

@@ -1,6 +1,7 @@
 #include "pipelines/surface_synthesis/level_synthesizer.hpp"
 
 #include "core/error.hpp"
+#include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -89,7 +90,7 @@ LevelSynthesizer::LevelSynthesizer(const par::Comm& comm, const LevelStencils& s
   std::sort(read.begin(), read.end());
   read.erase(std::unique(read.begin(), read.end()), read.end());
   for (const std::int64_t v : read)
-    requests[std::size_t(owner_of(rank_offsets, v))].push_back({v, comm.rank});
+    requests[std::size_t(par::owner_of(rank_offsets, v))].push_back({v, comm.rank});
   auto received = par::exchange_records(comm, requests);
   std::sort(received.begin(), received.end(), [](const ReadRequest& a, const ReadRequest& b) {
     return std::tie(a.id, a.reader) < std::tie(b.id, b.reader);

@@ -7,9 +7,7 @@
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
-#include <algorithm>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 namespace texsim::pipelines::surface_synthesis {
@@ -31,17 +29,11 @@ struct MeshPyramidSettings {
 struct RetiledLevel {
   geom::TriangleMesh mesh;         ///< vertex v = SurfaceCells id v (Morton order)
   std::vector<geom::Vec3> normals; ///< unit area-weighted vertex normals of `mesh`
-  /// First owned id of each rank and the total at the end (ranks + 1 entries): SurfaceCells' runs.
+  /// First owned id of each rank and the total at the end (ranks + 1 entries): SurfaceCells' runs
+  /// (par/id_runs.hpp).
   std::vector<std::int64_t> rank_offsets;
   double spacing = 0; ///< d_L = sqrt(2 A_L), A_L the mean triangle area of `mesh` (Section 3.3)
 };
-
-/// The rank owning vertex `id` of a level split into the runs `rank_offsets` (RetiledLevel).
-inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
-  return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
-             rank_offsets.begin()) -
-         1;
-}
 
 /// Levels [0] (finest_count vertices) to [levels - 1] (finest_count / 4^(levels - 1), rounded
 /// down). Level k places its vertices with geom::SurfaceCells (relaxed, Morton-numbered; seed

@@ -1,6 +1,8 @@
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 
 #include "core/error.hpp"
+#include "par/greedy_colouring.hpp"
+#include "par/record_exchange.hpp"
 
 #include <mpi.h>
 
@@ -11,27 +13,28 @@
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// Classes of the greedy colouring of the 1-ring graph in vertex id order: each vertex takes the
-/// smallest colour none of its lower-id neighbours has. Members of a class are sorted by id.
-std::vector<std::vector<std::int32_t>> colour_classes(const geom::MeshTopology& topology) {
+/// Classes of the greedy colouring of the 1-ring graph in vertex id order (par::greedy_colouring
+/// on each rank's run), each class with every rank's members in id order.
+std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
+                                                      std::span<const std::int64_t> rank_offsets,
+                                                      const geom::MeshTopology& topology) {
   const geom::CsrAdjacency& ring = topology.vertex_neighbors();
-  std::vector<std::int32_t> colour(topology.num_vertices(), -1);
-  std::vector<std::int32_t> taken_by; // taken_by[c] == v: colour c is used next to v
-  std::vector<std::vector<std::int32_t>> classes;
-  for (std::int32_t v = 0; v < topology.num_vertices(); ++v) {
-    for (const std::int32_t q : ring.row(v))
-      if (colour[q] >= 0)
-        taken_by[colour[q]] = v;
-    std::int32_t c = 0;
-    while (c < std::int32_t(taken_by.size()) && taken_by[c] == v)
-      ++c;
-    if (c == std::int32_t(classes.size())) {
-      classes.emplace_back();
-      taken_by.push_back(-1);
-    }
-    colour[v] = c;
-    classes[c].push_back(v);
+  const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
+  const std::int64_t end = rank_offsets[std::size_t(comm.rank) + 1];
+  par::OwnedAdjacency rows;
+  for (std::int64_t v = first; v < end; ++v) {
+    for (const std::int32_t q : ring.row(std::int32_t(v)))
+      rows.neighbours.push_back(q);
+    rows.offsets.push_back(std::int64_t(rows.neighbours.size()));
   }
+  const auto colouring = par::greedy_colouring(comm, rank_offsets, std::move(rows),
+                                               [](std::int64_t) { return std::uint64_t(0); });
+  std::vector<std::vector<std::int32_t>> owned(std::size_t(colouring.classes));
+  for (std::int64_t v = first; v < end; ++v)
+    owned[std::size_t(colouring.owned_class[std::size_t(v - first)])].push_back(std::int32_t(v));
+  std::vector<std::vector<std::int32_t>> classes;
+  for (const auto& members : owned)
+    classes.push_back(par::allgather_records(comm, members));
   return classes;
 }
 
@@ -228,7 +231,7 @@ RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::in
                                   const CoarserOrientation* coarser, int symmetry, int sweeps,
                                   std::vector<geom::Vec3>& directions) {
   verify_inputs(comm, rank_offsets, topology, normals, coarser, symmetry, sweeps, directions);
-  const auto classes = colour_classes(topology);
+  const auto classes = colour_classes(comm, rank_offsets, topology);
   const VertexEnergy energy(topology, normals, coarser, symmetry, directions);
   RelaxationReport report;
   report.colour_classes = std::int32_t(classes.size());

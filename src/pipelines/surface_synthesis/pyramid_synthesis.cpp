@@ -98,7 +98,7 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
       if (synthesizer->runs(pass) && !(pass == Pass::extrapolate && !has_coarser)) {
         auto stage = timers.scope("synthesis");
         const auto order =
-            synthesis_order(comm, *stencils, level.mesh.num_vertices(), input.seed, k, pass);
+            synthesis_order(comm, *stencils, level.rank_offsets, input.seed, k, pass);
         level_report.classes[int(pass) - 1] = order.classes;
         synthesizer->run_pass(pass, order, first_class, colours[K], coarser, [&](std::int32_t c) {
           if (hooks.after_class)

@@ -127,11 +127,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     report.metric("levels", level_metrics);
   }
   std::vector<geom::MeshTopology> topologies;
-  std::vector<geom::AabbTree> trees;
-  for (const auto& level : pyramid) {
+  for (const auto& level : pyramid)
     topologies.emplace_back(level.mesh);
-    trees.emplace_back(level.mesh);
-  }
 
   // Parent faces (level k on level k + 1) and orientation, coarse to fine.
   std::vector<std::vector<ParentFace>> parents(static_cast<std::size_t>(levels));
@@ -142,10 +139,11 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     nlohmann::json relax_metrics = nlohmann::json::array();
     for (int k = levels - 1; k >= 0; --k) {
       const auto& level = pyramid[std::size_t(k)];
-      if (k + 1 < levels)
-        parents[std::size_t(k)] =
-            find_parent_faces(level.mesh.positions, level.normals, pyramid[std::size_t(k) + 1].mesh,
-                              trees[std::size_t(k) + 1]);
+      if (k + 1 < levels) { // the coarser level's tree lives only as long as this search
+        const auto& coarser_mesh = pyramid[std::size_t(k) + 1].mesh;
+        parents[std::size_t(k)] = find_parent_faces(level.mesh.positions, level.normals,
+                                                    coarser_mesh, geom::AabbTree(coarser_mesh));
+      }
       auto& s = directions[std::size_t(k)];
       const auto random = random_directions(level.normals, run.seed, k);
       if (orientation.mode == OrientationMode::random) {

@@ -1,9 +1,9 @@
 #include "pipelines/surface_synthesis/synthesis_order.hpp"
 
 #include "core/rng.hpp"
-#include "geom/mesh_topology.hpp"
-
-#include <mpi.h>
+#include "par/greedy_colouring.hpp"
+#include "par/id_runs.hpp"
+#include "par/record_exchange.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -13,88 +13,124 @@ namespace {
 
 constexpr std::uint32_t kOrderStream = 0x5301;
 
-/// All ranks' (reader, read) pairs, both directions, as a CSR graph over the level's vertices.
-geom::CsrAdjacency conflict_graph(const par::Comm& comm, const LevelStencils& stencils,
-                                  std::int64_t vertices) {
-  std::vector<std::int64_t> pairs;
-  std::vector<std::int64_t> read;
-  for (std::int64_t local = 0; local < stencils.owned; ++local) {
-    const std::int64_t u = stencils.first + local;
-    read.clear();
+/// A read of `vertex` by `reader`, sent to the owner of `vertex` (level ids fit 32 bits).
+struct Read {
+  std::int32_t vertex;
+  std::int32_t reader;
+};
+
+/// The conflict rows of this rank's vertices: the vertices each one's current-part stencil reads
+/// (nonzero weight, not itself) and the vertices whose stencils read it (reads of a vertex owned
+/// elsewhere go to its owner). Both lists are built by counting, as CSR, then merged per row.
+par::OwnedAdjacency conflict_rows(const par::Comm& comm, const LevelStencils& stencils,
+                                  std::span<const std::int64_t> rank_offsets) {
+  const std::int64_t first = stencils.first;
+  const std::int64_t owned = stencils.owned;
+  const auto is_owned = [&](std::int64_t v) { return v >= first && v < first + owned; };
+  std::vector<std::int64_t> read_offsets{0};
+  std::vector<std::int32_t> reads; // per owned vertex, increasing
+  std::vector<std::vector<Read>> outgoing(std::size_t(comm.size));
+  for (std::int64_t local = 0; local < owned; ++local) {
+    const auto u = std::int32_t(first + local);
+    const auto row_begin = reads.size();
     for (const auto& sample : stencils.current_of(local))
       if (sample.covered())
         for (int k = 0; k < 3; ++k)
           if (sample.weights[std::size_t(k)] != 0.0 && sample.vertices[std::size_t(k)] != u)
-            read.push_back(sample.vertices[std::size_t(k)]);
-    std::sort(read.begin(), read.end());
-    read.erase(std::unique(read.begin(), read.end()), read.end());
-    for (const std::int64_t v : read)
-      pairs.insert(pairs.end(), {u, v});
+            reads.push_back(sample.vertices[std::size_t(k)]);
+    const auto row = reads.begin() + std::ptrdiff_t(row_begin);
+    std::sort(row, reads.end());
+    reads.erase(std::unique(row, reads.end()), reads.end());
+    read_offsets.push_back(std::int64_t(reads.size()));
+    for (auto v = row; v != reads.end(); ++v)
+      if (!is_owned(*v))
+        outgoing[std::size_t(par::owner_of(rank_offsets, *v))].push_back({*v, u});
   }
-  int local_count = int(pairs.size());
-  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
-  MPI_Allgather(&local_count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.raw);
-  std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
-  std::vector<std::int64_t> all(std::size_t(offsets.back() + counts.back()));
-  MPI_Allgatherv(pairs.data(), local_count, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
-                 MPI_INT64_T, comm.raw);
+  const auto received = par::exchange_records(comm, outgoing);
+  outgoing = {};
 
-  geom::CsrAdjacency graph;
-  graph.offsets.assign(std::size_t(vertices) + 1, 0);
-  for (std::size_t k = 0; k < all.size(); k += 2) {
-    ++graph.offsets[std::size_t(all[k]) + 1];
-    ++graph.offsets[std::size_t(all[k + 1]) + 1];
+  // Who reads each owned vertex: this rank's reads of its own vertices and the received ones.
+  std::vector<std::int64_t> reader_offsets(std::size_t(owned) + 1, 0);
+  for (const std::int32_t v : reads)
+    if (is_owned(v))
+      ++reader_offsets[std::size_t(v - first) + 1];
+  for (const auto& read : received)
+    ++reader_offsets[std::size_t(read.vertex - first) + 1];
+  std::partial_sum(reader_offsets.begin(), reader_offsets.end(), reader_offsets.begin());
+  std::vector<std::int32_t> readers(std::size_t(reader_offsets.back()));
+  {
+    auto fill = reader_offsets;
+    for (std::int64_t local = 0; local < owned; ++local)
+      for (auto k = read_offsets[std::size_t(local)]; k < read_offsets[std::size_t(local) + 1]; ++k)
+        if (const std::int32_t v = reads[std::size_t(k)]; is_owned(v))
+          readers[std::size_t(fill[std::size_t(v - first)]++)] = std::int32_t(first + local);
+    for (const auto& read : received)
+      readers[std::size_t(fill[std::size_t(read.vertex - first)]++)] = read.reader;
   }
-  std::partial_sum(graph.offsets.begin(), graph.offsets.end(), graph.offsets.begin());
-  graph.indices.resize(std::size_t(graph.offsets.back()));
-  auto fill = graph.offsets;
-  for (std::size_t k = 0; k < all.size(); k += 2) {
-    graph.indices[std::size_t(fill[std::size_t(all[k])]++)] = std::int32_t(all[k + 1]);
-    graph.indices[std::size_t(fill[std::size_t(all[k + 1])]++)] = std::int32_t(all[k]);
+
+  // Each row is the union of the two increasing lists (u reading v and v reading u: one entry).
+  const auto read_row = [&](std::int64_t local) {
+    return std::span(reads).subspan(
+        std::size_t(read_offsets[std::size_t(local)]),
+        std::size_t(read_offsets[std::size_t(local) + 1] - read_offsets[std::size_t(local)]));
+  };
+  const auto reader_row = [&](std::int64_t local) {
+    return std::span(readers).subspan(
+        std::size_t(reader_offsets[std::size_t(local)]),
+        std::size_t(reader_offsets[std::size_t(local) + 1] - reader_offsets[std::size_t(local)]));
+  };
+  par::OwnedAdjacency rows;
+  rows.offsets.assign(std::size_t(owned) + 1, 0);
+  for (std::int64_t local = 0; local < owned; ++local) {
+    const auto by = reader_row(local);
+    std::sort(by.begin(), by.end());
+    const auto of = read_row(local);
+    std::size_t shared = 0;
+    for (std::size_t i = 0, j = 0; i < of.size() && j < by.size();)
+      if (of[i] < by[j])
+        ++i;
+      else if (by[j] < of[i])
+        ++j;
+      else
+        ++shared, ++i, ++j;
+    rows.offsets[std::size_t(local) + 1] =
+        rows.offsets[std::size_t(local)] + std::int64_t(of.size() + by.size() - shared);
   }
-  return graph;
+  rows.neighbours.resize(std::size_t(rows.offsets.back()));
+  for (std::int64_t local = 0; local < owned; ++local) {
+    const auto of = read_row(local);
+    const auto by = reader_row(local);
+    std::set_union(of.begin(), of.end(), by.begin(), by.end(),
+                   rows.neighbours.begin() + rows.offsets[std::size_t(local)]);
+  }
+  return rows;
 }
 
 } // namespace
 
+std::uint64_t synthesis_priority(std::uint64_t seed, int level, Pass pass, std::int64_t id) {
+  const auto bits = CounterRng(seed, kOrderStream)
+                        .bits(std::uint64_t(id), std::uint32_t(level), std::uint32_t(pass));
+  return (std::uint64_t(bits[0]) << 32) | bits[1];
+}
+
 SynthesisOrder synthesis_order(const par::Comm& comm, const LevelStencils& stencils,
-                               std::int64_t vertices, std::uint64_t seed, int level, Pass pass) {
+                               std::span<const std::int64_t> rank_offsets, std::uint64_t seed,
+                               int level, Pass pass) {
   SynthesisOrder order;
-  order.class_of.assign(std::size_t(vertices), 0);
   if (pass == Pass::extrapolate) {
     order.classes = 1;
+    order.owned_class.assign(std::size_t(stencils.owned), 0);
   } else {
-    const auto graph = conflict_graph(comm, stencils, vertices);
-    // Priority order: a random permutation keyed by (seed, level, pass), ties by id.
-    const CounterRng rng(seed, kOrderStream);
-    std::vector<std::pair<std::uint64_t, std::int64_t>> ranked(static_cast<std::size_t>(vertices));
-    for (std::int64_t v = 0; v < vertices; ++v) {
-      const auto bits = rng.bits(std::uint64_t(v), std::uint32_t(level), std::uint32_t(pass));
-      ranked[std::size_t(v)] = {(std::uint64_t(bits[0]) << 32) | bits[1], v};
-    }
-    std::sort(ranked.begin(), ranked.end());
-    std::fill(order.class_of.begin(), order.class_of.end(), -1);
-    std::vector<std::int32_t> used_by(64, -1); // used_by[c] == v: colour c taken near v
-    for (const auto& [key, v] : ranked) {
-      for (const std::int32_t u : graph.row(std::int32_t(v))) {
-        const std::int32_t c = order.class_of[std::size_t(u)];
-        if (c < 0)
-          continue;
-        if (std::size_t(c) >= used_by.size())
-          used_by.resize(std::size_t(c) + 1, -1);
-        used_by[std::size_t(c)] = std::int32_t(v);
-      }
-      std::int32_t colour = 0;
-      while (std::size_t(colour) < used_by.size() && used_by[std::size_t(colour)] == v)
-        ++colour;
-      order.class_of[std::size_t(v)] = colour;
-      order.classes = std::max(order.classes, colour + 1);
-    }
+    auto colouring = par::greedy_colouring(
+        comm, rank_offsets, conflict_rows(comm, stencils, rank_offsets),
+        [&](std::int64_t id) { return synthesis_priority(seed, level, pass, id); });
+    order.classes = colouring.classes;
+    order.owned_class = std::move(colouring.owned_class);
   }
   order.owned_members.resize(std::size_t(order.classes));
   for (std::int64_t local = 0; local < stencils.owned; ++local)
-    order.owned_members[std::size_t(order.class_of[std::size_t(stencils.first + local)])].push_back(
-        local);
+    order.owned_members[std::size_t(order.owned_class[std::size_t(local)])].push_back(local);
   return order;
 }
 

@@ -9,22 +9,29 @@
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::surface_synthesis {
 
 struct SynthesisOrder {
-  /// Class of every vertex of the level (all ranks hold all).
-  std::vector<std::int32_t> class_of;
   std::int32_t classes = 0;
-  /// Owned vertices (local indices from LevelStencils::first) of each class, increasing.
+  /// Class of each owned vertex (local index from LevelStencils::first).
+  std::vector<std::int32_t> owned_class;
+  /// Owned vertices (local indices) of each class, increasing.
   std::vector<std::vector<std::int64_t>> owned_members;
 };
 
-/// The classes of one pass: pass 1 reads only the coarser level, so nothing conflicts and it is
-/// one class; pass 2 colours the conflicts of the current-part stencils. Collective (the conflict
-/// pairs are all-gathered: geometry is replicated for now).
+/// The priority key of vertex `id` in the greedy colouring of (level, pass): smaller first, equal
+/// keys by smaller id.
+std::uint64_t synthesis_priority(std::uint64_t seed, int level, Pass pass, std::int64_t id);
+
+/// The classes of one pass over the level split into `rank_offsets` (the stencils are this rank's
+/// run): pass 1 reads only the coarser level, so nothing conflicts and it is one class; pass 2
+/// colours the conflicts of the current-part stencils with par::greedy_colouring, each rank
+/// holding the conflicts of its own vertices only. Collective.
 SynthesisOrder synthesis_order(const par::Comm& comm, const LevelStencils& stencils,
-                               std::int64_t vertices, std::uint64_t seed, int level, Pass pass);
+                               std::span<const std::int64_t> rank_offsets, std::uint64_t seed,
+                               int level, Pass pass);
 
 } // namespace texsim::pipelines::surface_synthesis
