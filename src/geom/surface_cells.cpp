@@ -64,8 +64,8 @@ SurfaceCells::SurfaceCells(const par::Comm& comm, const DistributedTriangles& su
   number_along_morton_curve(comm, surface.bounds(),
                             relaxed_surface_points(comm, surface, settings.count, seed,
                                                    settings.relaxation, &relaxation_));
-  build_view(comm, surface, settings.halo_spacings * spacing_);
-  reduce_pieces(comm);
+  build_view(comm, surface, settings.halo_spacings * spacing_, settings.keep_pieces);
+  reduce_pieces(comm, settings.keep_pieces);
   build_stencil(comm);
 }
 
@@ -81,7 +81,7 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Box3& 
 }
 
 void SurfaceCells::build_view(const par::Comm& comm, const DistributedTriangles& surface,
-                              double halo) {
+                              double halo, bool keep_polygons) {
   // This rank's share of the triangles, numbered in the whole mesh's order.
   const LocalSurface share = surface.owned_surface();
   const TriangleMesh& mesh = share.mesh;
@@ -117,12 +117,13 @@ void SurfaceCells::build_view(const par::Comm& comm, const DistributedTriangles&
     view_blocks_.push_back(std::int32_t(rank_offsets_[h.owner] + h.owner_index));
     view_owners_.push_back(h.owner);
   }
-  pieces_ = restricted_voronoi_pieces(mesh, local_triangles, view_positions_, view_ids_, true);
+  pieces_ =
+      restricted_voronoi_pieces(mesh, local_triangles, view_positions_, view_ids_, keep_polygons);
   for (auto& piece : pieces_)
     piece.triangle = triangles_[std::size_t(piece.triangle)];
 }
 
-void SurfaceCells::reduce_pieces(const par::Comm& comm) {
+void SurfaceCells::reduce_pieces(const par::Comm& comm, bool keep_pieces) {
   std::vector<std::vector<AreaRecord>> areas_out(comm.size);
   std::vector<std::vector<BorderRecord>> borders_out(comm.size);
   for (const auto& piece : pieces_) {
@@ -134,8 +135,10 @@ void SurfaceCells::reduce_pieces(const par::Comm& comm) {
       borders_out[view_owners_[other_seed]].push_back({other, cell, piece.triangle, cell, length});
     }
   }
-  auto areas_in = par::exchange_records(comm, areas_out);
-  auto borders_in = par::exchange_records(comm, borders_out);
+  if (!keep_pieces)
+    pieces_ = {};
+  auto areas_in = par::exchange_records(comm, std::move(areas_out));
+  auto borders_in = par::exchange_records(comm, std::move(borders_out));
 
   // Sums in a fixed order (by triangle, then by the measuring cell) give the same bits on every
   // partition, and the same bits for (i, j) as for (j, i).

@@ -29,6 +29,9 @@ struct SurfaceCellsSettings {
   std::int64_t count = 10000;    ///< number of cells n
   RelaxationSettings relaxation; ///< Turk's repulsion sweeps
   double halo_spacings = 6.0;    ///< halo width around a rank's triangles, in cell spacings
+  /// Keep each rank's Voronoi pieces with their polygons (pieces(): turk_rd draws the cells);
+  /// without, they are dropped once the areas and borders are summed.
+  bool keep_pieces = true;
 };
 
 /// How the cells are split across ranks.
@@ -66,7 +69,8 @@ public:
   std::span<const Vec3> ghost_positions() const { return ghost_positions_; }
 
   /// This rank's input triangles (ids in the whole mesh, increasing) and their Voronoi pieces; a
-  /// piece's `seed` indexes the view, its `triangle` is an id in the whole mesh.
+  /// piece's `seed` indexes the view, its `triangle` is an id in the whole mesh. No pieces
+  /// without SurfaceCellsSettings::keep_pieces.
   std::span<const std::int32_t> triangles() const { return triangles_; }
   const std::vector<VoronoiPiece>& pieces() const { return pieces_; }
   /// The view: every owned cell (in owned order) followed by the other ranks' cells near this
@@ -85,8 +89,9 @@ public:
 private:
   void number_along_morton_curve(const par::Comm& comm, const Box3& bounds,
                                  DistributedSurfacePoints relaxed);
-  void build_view(const par::Comm& comm, const DistributedTriangles& surface, double halo);
-  void reduce_pieces(const par::Comm& comm);
+  void build_view(const par::Comm& comm, const DistributedTriangles& surface, double halo,
+                  bool keep_polygons);
+  void reduce_pieces(const par::Comm& comm, bool keep_pieces);
   void build_stencil(const par::Comm& comm);
 
   std::int64_t global_count_ = 0;

@@ -113,13 +113,18 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
       placed_on = &simplified;
     }
   });
-  geom::SurfaceCellsSettings cells_settings = settings.cells;
-  cells_settings.count = count;
-  const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
-                                 level_seed(seed, level), cells_settings);
-
   RetiledLevel retiled;
-  retiled.mesh.positions = gather_cell_positions(comm, cells);
+  {
+    // Only the cells' centres and runs outlive the retiling (not their Voronoi pieces).
+    geom::SurfaceCellsSettings cells_settings = settings.cells;
+    cells_settings.count = count;
+    cells_settings.keep_pieces = false;
+    const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
+                                   level_seed(seed, level), cells_settings);
+    retiled.mesh.positions = gather_cell_positions(comm, cells);
+    const auto offsets = cells.rank_offsets();
+    retiled.rank_offsets.assign(offsets.begin(), offsets.end());
+  }
   // Rank 0 connects the cells on the surface it holds; every rank gets its triangles.
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
@@ -138,8 +143,6 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
   });
   par::broadcast_records(comm, retiled.mesh.triangles);
   retiled.normals = geom::vertex_normals(retiled.mesh);
-  const auto offsets = cells.rank_offsets();
-  retiled.rank_offsets.assign(offsets.begin(), offsets.end());
   retiled.spacing =
       std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
   log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",
