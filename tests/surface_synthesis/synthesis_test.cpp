@@ -2,7 +2,8 @@
 // stencil reads another), the result has the same bytes on 1, 2 and 3 ranks as on one rank alone,
 // and it is much closer to the exemplar's neighbourhoods than its random start: below half of it
 // on a sphere, below a fifth with an exactly periodic lattice exemplar on a flat grid; with a
-// stripe exemplar, relaxed orientation beats random orientation.
+// stripe exemplar, relaxed orientation beats random orientation, and s along the parallels lays
+// the stripes along them (the luminance varies along the meridians).
 #include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
@@ -17,21 +18,30 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <span>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// A pyramid with everything the synthesis loop reads, orientation random or relaxed.
+/// How the pyramid's texture directions s are chosen.
+enum class Orientation {
+  random,
+  relaxed,  ///< 2-way relaxation, 30 sweeps a level
+  parallels ///< the field (-y, x, 0) projected: s along the parallels about the z axis
+};
+
+/// A pyramid with everything the synthesis loop reads.
 struct Prepared {
   std::vector<RetiledLevel> pyramid;
   std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<geom::Vec3>> directions;
   std::vector<std::vector<ParentFace>> parents;
 
-  Prepared(const par::Comm& comm, std::vector<RetiledLevel> levels, bool relax, int symmetry)
+  Prepared(const par::Comm& comm, std::vector<RetiledLevel> levels, Orientation orientation)
       : pyramid(std::move(levels)) {
+    constexpr int kSymmetry = 2;
     const int n = int(pyramid.size());
     parents.resize(std::size_t(n));
     directions.resize(std::size_t(n));
@@ -44,31 +54,39 @@ struct Prepared {
                                        pyramid[K + 1].mesh, geom::AabbTree(pyramid[K + 1].mesh));
       const auto random = random_directions(pyramid[K].normals, 5, k);
       directions[K] = random;
-      if (!relax)
+      if (orientation == Orientation::parallels) {
+        std::vector<geom::Vec3> field;
+        for (const auto& p : pyramid[K].mesh.positions)
+          field.emplace_back(-p.y(), p.x(), 0.0);
+        directions[K] = projected_directions(pyramid[K].normals, field, nullptr);
+      }
+      if (orientation != Orientation::relaxed)
         continue;
       std::optional<CoarserOrientation> coarser;
       if (k + 1 < n) {
         coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
-        directions[K] = inherited_directions(pyramid[K].normals, *coarser, symmetry, random);
+        directions[K] = inherited_directions(pyramid[K].normals, *coarser, kSymmetry, random);
       }
       relax_directions(comm, pyramid[K].rank_offsets, topologies[K], pyramid[K].normals,
-                       coarser ? &*coarser : nullptr, symmetry, 30, directions[K]);
+                       coarser ? &*coarser : nullptr, kSymmetry, 30, directions[K]);
     }
   }
 
   PyramidSynthesisInput input(const std::vector<img::RgbImage>& exemplar) const {
     PyramidSynthesisInput in{pyramid, topologies, directions, parents, exemplar};
-    const std::vector<NeighbourhoodShape> shapes{{5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
+    // Wei-Levoy's {7x7,2}, {5x5,2}, {3x3,2}, {1x1,1}, finest first; fewer levels keep the coarsest.
+    const std::vector<NeighbourhoodShape> shapes{{7, 7, 2}, {5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
     in.shapes.assign(shapes.end() - std::ptrdiff_t(pyramid.size()), shapes.end());
     in.seed = 3;
     return in;
   }
 };
 
-std::vector<RetiledLevel> sphere_pyramid(const par::Comm& comm, std::int64_t vertices) {
+std::vector<RetiledLevel> sphere_pyramid(const par::Comm& comm, std::int64_t vertices,
+                                         int levels = 3) {
   MeshPyramidSettings settings;
   settings.finest_count = vertices;
-  settings.levels = 3;
+  settings.levels = levels;
   settings.cells.relaxation.iterations = 15;
   return build_mesh_pyramid(comm, geom::icosphere(4), 11, settings);
 }
@@ -79,6 +97,47 @@ std::vector<img::RgbImage> lattice(int levels) {
   settings.size = 32;
   settings.periods = 1;
   return exemplar_pyramid(load_exemplar(settings, 2), levels, ExemplarBorder::toroidal);
+}
+
+/// A 64 x 64 tile of 8 cosine stripes varying along y: 8 pixels a period, 4 a level up, 2 and
+/// then none on the two top levels (as in config/surface_synthesis/sphere_stripes_*.yaml).
+std::vector<img::RgbImage> stripes(int levels) {
+  ExemplarSettings settings;
+  settings.procedural = ProceduralExemplar::stripes;
+  settings.size = 64;
+  settings.periods = 8;
+  return exemplar_pyramid(load_exemplar(settings, 1), levels, ExemplarBorder::toroidal);
+}
+
+/// How much of the luminance's variation runs along the meridians (the directions of the z axis
+/// in the tangent planes): sum (g . m)^2 / sum |g|^2 over the level's triangles, g the gradient
+/// of the luminance's linear interpolation, m the unit meridian at the centroid, both weighted by
+/// the triangle's area; triangles within about 17 degrees of a pole, where m turns fast, are left
+/// out. 1 for colour a function of latitude alone (stripes along the parallels), about 1/2 for
+/// no preferred direction.
+double meridian_alignment(const RetiledLevel& level, const LevelColours& colours) {
+  const auto luminance = [&](std::int32_t v) {
+    const img::Rgb& c = colours.colours[std::size_t(v)];
+    return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+  };
+  double along = 0, total = 0;
+  for (const auto& t : level.mesh.triangles) {
+    const geom::Vec3 &a = level.mesh.positions[std::size_t(t[0])],
+                     &b = level.mesh.positions[std::size_t(t[1])],
+                     &c = level.mesh.positions[std::size_t(t[2])];
+    const geom::Vec3 e1 = b - a, e2 = c - a, n = e1.cross(e2);
+    const geom::Vec3 gradient = (n.cross(e2) * (luminance(t[1]) - luminance(t[0])) +
+                                 e1.cross(n) * (luminance(t[2]) - luminance(t[0]))) /
+                                n.squaredNorm();
+    const geom::Vec3 centre = ((a + b + c) / 3.0).normalized();
+    const geom::Vec3 meridian = geom::Vec3(0, 0, 1) - centre * centre.z();
+    if (meridian.norm() < 0.3)
+      continue;
+    const double area = 0.5 * n.norm();
+    along += area * std::pow(gradient.dot(meridian.normalized()), 2);
+    total += area * gradient.squaredNorm();
+  }
+  return total > 0 ? along / total : 0.0;
 }
 
 struct Run {
@@ -114,7 +173,7 @@ std::vector<std::int32_t> all_classes(const par::Comm& comm,
 
 TEST(Synthesis, NoClassMemberReadsAnother) {
   const par::Comm comm = par::world();
-  const Prepared prepared(comm, sphere_pyramid(comm, 2048), false, 2);
+  const Prepared prepared(comm, sphere_pyramid(comm, 2048), Orientation::random);
   const auto& level = prepared.pyramid[0];
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
@@ -141,7 +200,7 @@ TEST(Synthesis, NoClassMemberReadsAnother) {
 // priority order, built here from the whole level's stencils.
 TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const par::Comm comm = par::world();
-  const Prepared prepared(comm, sphere_pyramid(comm, 2048), false, 2);
+  const Prepared prepared(comm, sphere_pyramid(comm, 2048), Orientation::random);
   const auto& level = prepared.pyramid[0];
   const auto n = level.mesh.num_vertices();
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
@@ -186,8 +245,8 @@ TEST(Synthesis, SameBytesOnAnyRankCountAsOnOne) {
   const par::Comm world = par::world();
   const par::Comm self{MPI_COMM_SELF, 0, 1};
   const auto exemplar = lattice(3);
-  const Prepared distributed(world, sphere_pyramid(world, 1024), true, 2);
-  const Prepared alone(self, sphere_pyramid(self, 1024), true, 2);
+  const Prepared distributed(world, sphere_pyramid(world, 1024), Orientation::relaxed);
+  const Prepared alone(self, sphere_pyramid(self, 1024), Orientation::relaxed);
   for (const auto method : {SearchMethod::exhaustive, SearchMethod::tsvq}) {
     const auto a = synthesize(world, distributed, exemplar, method);
     const auto b = synthesize(self, alone, exemplar, method);
@@ -202,7 +261,7 @@ TEST(Synthesis, SameBytesOnAnyRankCountAsOnOne) {
 
 TEST(Synthesis, SphereHalvesTheRandomStartsError) {
   const par::Comm comm = par::world();
-  const Prepared prepared(comm, sphere_pyramid(comm, 4096), false, 2);
+  const Prepared prepared(comm, sphere_pyramid(comm, 4096), Orientation::random);
   const auto run = synthesize(comm, prepared, lattice(3), SearchMethod::pruned);
   EXPECT_LT(run.report.neighbourhood_error, 0.5 * run.report.random_start_error)
       << run.report.neighbourhood_error << " vs " << run.report.random_start_error;
@@ -210,19 +269,34 @@ TEST(Synthesis, SphereHalvesTheRandomStartsError) {
 
 TEST(Synthesis, RelaxedOrientationBeatsRandomOnStripes) {
   const par::Comm comm = par::world();
-  ExemplarSettings settings;
-  settings.procedural = ProceduralExemplar::stripes;
-  settings.size = 64; // 4 stripes: 16 pixels a period, 4 on the coarsest level
-  settings.periods = 4;
-  const auto stripes = exemplar_pyramid(load_exemplar(settings, 1), 3, ExemplarBorder::toroidal);
-  auto levels = sphere_pyramid(comm, 4096);
-  const Prepared random(comm, levels, false, 2);
-  const Prepared relaxed(comm, std::move(levels), true, 2);
+  const auto exemplar = stripes(4);
+  auto levels = sphere_pyramid(comm, 8192, 4);
+  const Prepared random(comm, levels, Orientation::random);
+  const Prepared relaxed(comm, std::move(levels), Orientation::relaxed);
   const double random_error =
-      synthesize(comm, random, stripes, SearchMethod::pruned).report.neighbourhood_error;
+      synthesize(comm, random, exemplar, SearchMethod::pruned).report.neighbourhood_error;
   const double relaxed_error =
-      synthesize(comm, relaxed, stripes, SearchMethod::pruned).report.neighbourhood_error;
+      synthesize(comm, relaxed, exemplar, SearchMethod::pruned).report.neighbourhood_error;
   EXPECT_LT(relaxed_error, random_error) << relaxed_error << " vs " << random_error;
+}
+
+TEST(Synthesis, StripesRunAlongTheFieldsParallels) {
+  const par::Comm comm = par::world();
+  const auto exemplar = stripes(4);
+  auto levels = sphere_pyramid(comm, 8192, 4);
+  const Prepared random(comm, levels, Orientation::random);
+  const Prepared parallels(comm, std::move(levels), Orientation::parallels);
+  const auto along_field = synthesize(comm, parallels, exemplar, SearchMethod::pruned);
+  const auto at_random = synthesize(comm, random, exemplar, SearchMethod::pruned);
+  const double aligned = meridian_alignment(parallels.pyramid.front(), along_field.colours.front());
+  const double unaligned = meridian_alignment(random.pyramid.front(), at_random.colours.front());
+  // The exemplar varies along its y axis, t = n x s: with s along the parallels, along the
+  // meridians. Random s leaves no preferred direction.
+  EXPECT_GT(aligned, 0.7) << "random orientation: " << unaligned;
+  EXPECT_LT(unaligned, 0.6) << "along the field: " << aligned;
+  for (const auto& level : along_field.report.levels)
+    if (level.level == 0)
+      EXPECT_GT(level.distinct_colours, 1);
 }
 
 } // namespace

@@ -6,6 +6,9 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <array>
+
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
@@ -27,6 +30,26 @@ void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours&
   }
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.colours.data(), counts.data(),
                  offsets.data(), MPI_FLOAT, comm.raw);
+}
+
+/// How many distinct colours the level's vertices hold: each rank marks the exemplar pixels its
+/// own vertices copy, the marks are OR-ed over ranks, and the marked pixels' colours are counted
+/// (an exemplar may hold one colour at many pixels). Collective.
+std::int64_t distinct_colours(const par::Comm& comm, const RetiledLevel& level,
+                              const LevelColours& colours, const img::RgbImage& exemplar) {
+  std::vector<std::uint8_t> used(exemplar.size(), 0);
+  for (auto v = level.rank_offsets[std::size_t(comm.rank)];
+       v < level.rank_offsets[std::size_t(comm.rank) + 1]; ++v)
+    used[std::size_t(colours.pixels[std::size_t(v)])] = 1;
+  MPI_Allreduce(MPI_IN_PLACE, used.data(), int(used.size()), MPI_UINT8_T, MPI_BOR, comm.raw);
+  std::vector<std::array<float, 3>> palette;
+  for (std::size_t p = 0; p < used.size(); ++p)
+    if (used[p]) {
+      const img::Rgb& c = exemplar.data()[p];
+      palette.push_back({c.r, c.g, c.b});
+    }
+  std::sort(palette.begin(), palette.end());
+  return std::unique(palette.begin(), palette.end()) - palette.begin();
 }
 
 } // namespace
@@ -113,6 +136,7 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
                               std::int64_t(stencils->current.size() + stencils->coarser.size())};
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
     level_report.uncovered_fraction = counts[1] > 0 ? double(counts[0]) / double(counts[1]) : 0;
+    level_report.distinct_colours = distinct_colours(comm, level, colours[K], input.exemplar[K]);
     report.levels.push_back(level_report);
     if (k == 0 && input.measure_quality)
       report.neighbourhood_error = synthesizer->neighbourhood_error(colours[0], coarser);

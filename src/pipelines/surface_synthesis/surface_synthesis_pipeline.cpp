@@ -242,14 +242,28 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
 
   nlohmann::json level_reports = nlohmann::json::array();
   double uncovered = 0;
+  int collapsed_from = -1;
   for (const auto& level : synthesis.levels) {
     level_reports.push_back({{"level", level.level},
                              {"classes_pass1", level.classes[0]},
                              {"classes_pass2", level.classes[1]},
-                             {"uncovered_fraction", level.uncovered_fraction}});
+                             {"uncovered_fraction", level.uncovered_fraction},
+                             {"distinct_colours", level.distinct_colours}});
+    // The coarsest level of the run of one-colour levels that ends at the finest, if any.
+    if (level.distinct_colours != 1)
+      collapsed_from = -1;
+    else if (collapsed_from < 0)
+      collapsed_from = level.level;
     if (level.level == 0)
       uncovered = level.uncovered_fraction;
   }
+  if (collapsed_from >= 0)
+    log::warn(log::cat("surface_synthesis: the result is one colour everywhere, from level ",
+                       collapsed_from,
+                       " on: the exemplar's features are too wide for the neighbourhoods or "
+                       "averaged away on its coarse levels; use fewer `surface_synthesis.levels`, "
+                       "larger `surface_synthesis.neighbourhoods` or an exemplar with smaller "
+                       "features"));
   const double final_error = synthesis.neighbourhood_error;
   const double random_error = synthesis.random_start_error;
   nlohmann::json quality = {{"neighbourhood_error", final_error},
