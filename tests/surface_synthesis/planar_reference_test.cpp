@@ -230,8 +230,9 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
         k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr,
         k + 1 < levels ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout,
         0, pyramid[std::size_t(k)].mesh.num_vertices());
-    if (k == 0)
+    if (k == 0) {
       EXPECT_GT(stencils.uncovered(), 0) << "the grid's border leaves samples uncovered";
+    }
     const std::vector<std::int64_t> one_run{0, pyramid[std::size_t(k)].mesh.num_vertices()};
     pass2_classes[std::size_t(k)] =
         synthesis_order(self, stencils, one_run, input.seed, k, Pass::refine).owned_class;

@@ -44,7 +44,7 @@ void add_sample(const SampleWeights& sample, std::span<const img::Rgb> colours,
   for (int ch = 0; ch < 3; ++ch) {
     double value = 0;
     for (std::size_t k = 0; k < 3; ++k)
-      value += sample.weights[k] * colours[std::size_t(sample.vertices[k])][ch];
+      value += double(sample.weights[k]) * colours[std::size_t(sample.vertices[k])][ch];
     out[ch] = value;
   }
 }

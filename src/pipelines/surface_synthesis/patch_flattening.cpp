@@ -256,7 +256,8 @@ void sample_patch(const FlattenedPatch& patch, std::span<const Eigen::Vector2d> 
       for (double& weight : w) {
         weight /= sum;
       }
-      out[s].weights = w;
+      for (int i = 0; i < 3; ++i)
+        out[s].weights[std::size_t(i)] = float(w[i]);
       out[s].vertices = patch.vertices[k];
       break;
     }

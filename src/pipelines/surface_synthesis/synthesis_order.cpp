@@ -36,7 +36,7 @@ par::OwnedAdjacency conflict_rows(const par::Comm& comm, const LevelStencils& st
     for (const auto& sample : stencils.current_of(local))
       if (sample.covered())
         for (int k = 0; k < 3; ++k)
-          if (sample.weights[std::size_t(k)] != 0.0 && sample.vertices[std::size_t(k)] != u)
+          if (sample.weights[std::size_t(k)] != 0.0f && sample.vertices[std::size_t(k)] != u)
             reads.push_back(sample.vertices[std::size_t(k)]);
     const auto row = reads.begin() + std::ptrdiff_t(row_begin);
     std::sort(row, reads.end());
