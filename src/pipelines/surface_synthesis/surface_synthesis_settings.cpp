@@ -52,7 +52,12 @@ ExemplarSettings read_exemplar(const ConfigSection& section) {
                                             {"lattice", ProceduralExemplar::lattice},
                                             {"grid", ProceduralExemplar::grid}});
     exemplar.size = section.get<int>("size", exemplar.size, int_in_range(8, 1024));
-    exemplar.periods = section.get<int>("periods", exemplar.periods, int_in_range(1, 64));
+    // Stripes default to 8 pixels a period: wider ones outgrow the default neighbourhoods and the
+    // synthesis settles on one colour (docs/surface_synthesis.md, "Collapse to one colour").
+    const int default_periods = exemplar.procedural == ProceduralExemplar::stripes
+                                    ? std::max(1, exemplar.size / 8)
+                                    : exemplar.periods;
+    exemplar.periods = section.get<int>("periods", default_periods, int_in_range(1, 64));
   }
   exemplar.reduce = section.get<int>("reduce", exemplar.reduce, [](int f) {
     return f >= 1 && f <= 64 && (f & (f - 1)) == 0 ? std::string()

@@ -24,9 +24,10 @@ enum class ProceduralExemplar { none, stripes, lattice, grid };
 struct ExemplarSettings {
   std::filesystem::path image;                              ///< image: PNG or JPEG file
   ProceduralExemplar procedural = ProceduralExemplar::none; ///< procedural: stripes|lattice|grid
-  int size = 64;   ///< size: side of a procedural exemplar, pixels
-  int periods = 4; ///< periods: stripes or grid lines across a procedural exemplar
-  int reduce = 1;  ///< reduce: power-of-two factor the image is shrunk by (Gaussian pyramid)
+  int size = 64; ///< size: side of a procedural exemplar, pixels
+  /// periods: stripes or grid lines across a procedural exemplar (stripes: size / 8 unless given)
+  int periods = 4;
+  int reduce = 1; ///< reduce: power-of-two factor the image is shrunk by (Gaussian pyramid)
   /// crop: [x, y, width, height] of the (reduced) image; absent: the whole image
   std::optional<std::array<int, 4>> crop;
   ExemplarBorder border = ExemplarBorder::toroidal; ///< border
