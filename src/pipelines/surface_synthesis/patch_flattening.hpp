@@ -35,8 +35,8 @@ struct FlattenedPatch {
 
 /// Where one template sample falls: the patch triangle's three vertex ids and barycentric
 /// weights, or uncovered (vertices[0] == -1). The weights are stored as float, like the colours
-/// they weigh: a level holds one per sample of every owned vertex (64 with {7x7,2}), and 24 bytes
-/// instead of 40 is the largest cut of a rank's memory that synthesis has.
+/// they weigh: a level holds a sample for each of the 64 template points ({7x7,2}) of every owned
+/// vertex, the largest block of a rank's memory during synthesis: 24 bytes a sample, not 40.
 struct SampleWeights {
   std::array<std::int32_t, 3> vertices{-1, -1, -1};
   std::array<float, 3> weights{};

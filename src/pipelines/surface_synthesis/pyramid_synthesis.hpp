@@ -46,8 +46,8 @@ struct PyramidSynthesisReport {
     int level = 0;
     std::int32_t classes[2] = {0, 0}; ///< pass 1, pass 2 (0: pass skipped)
     double uncovered_fraction = 0;
-    /// Distinct colours the level ended with: 1 means it collapsed to one colour, and every finer
-    /// level, reading only that, can only repeat it.
+    /// Distinct colours the level ended with; 1: it collapsed to one colour (the pipeline warns
+    /// when the finest level did).
     std::int64_t distinct_colours = 0;
   };
   std::vector<Level> levels;
