@@ -71,7 +71,6 @@ BenchSettings parse(int argc, char** argv) {
 /// The orientation of every level, coarse to fine, as the pipeline's `relax` mode computes it.
 std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
                                              const std::vector<RetiledLevel>& pyramid,
-                                             const std::vector<geom::MeshTopology>& topologies,
                                              const std::vector<std::vector<ParentFace>>& parents,
                                              int sweeps) {
   const int levels = int(pyramid.size());
@@ -85,7 +84,7 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
       coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
       directions[K] = inherited_directions(pyramid[K].normals, *coarser, 2, random);
     }
-    relax_directions(comm, pyramid[K].rank_offsets, topologies[K], pyramid[K].normals,
+    relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                      coarser ? &*coarser : nullptr, 2, sweeps, directions[K]);
   }
   return directions;
@@ -122,10 +121,8 @@ int main(int argc, char** argv) {
                        pyramid = build_mesh_pyramid(comm, geom::icosphere(settings.icosphere_level),
                                                     1, pyramid_settings);
                      }));
-  std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<ParentFace>> parents(pyramid.size());
   for (std::size_t k = 0; k < pyramid.size(); ++k) {
-    topologies.emplace_back(pyramid[k].mesh);
     if (k + 1 < pyramid.size())
       parents[k] = find_parent_faces(pyramid[k].mesh.positions, pyramid[k].normals,
                                      pyramid[k + 1].mesh, geom::AabbTree(pyramid[k + 1].mesh));
@@ -134,12 +131,10 @@ int main(int argc, char** argv) {
   std::vector<double> relax_s;
   std::vector<std::vector<geom::Vec3>> directions;
   for (int r = 0; r < settings.repeats; ++r)
-    relax_s.push_back(max_over_ranks(comm, timed(comm, [&] {
-                                       directions = relaxed(comm, pyramid, topologies, parents,
-                                                            settings.sweeps);
-                                     })));
+    relax_s.push_back(max_over_ranks(
+        comm, timed(comm, [&] { directions = relaxed(comm, pyramid, parents, settings.sweeps); })));
 
-  PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
+  PyramidSynthesisInput input{pyramid, directions, parents, exemplar};
   for (int k = 0; k < settings.levels; ++k) {
     const std::vector<NeighbourhoodShape> paper{{7, 7, 2}, {5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
     input.shapes.push_back(k + 1 == settings.levels ? NeighbourhoodShape{1, 1, 1}
@@ -181,8 +176,8 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    const auto stencils = build_level_stencils(level, topologies[0], directions[0], &pyramid[1],
-                                               &topologies[1], parents[0], layout, first, owned);
+    const auto stencils =
+        build_level_stencils(level, directions[0], &pyramid[1], parents[0], layout, first, owned);
     const LevelSynthesizer tsvq(comm, stencils, level.rank_offsets, exemplar, 0, layout,
                                 SearchMethod::tsvq, ExemplarBorder::toroidal);
     const auto exact =

@@ -180,7 +180,7 @@ TEST(OrientationRelaxation, FirstUpdateMatchesAFineScan) {
       const double theta = scanned_minimiser(angles, symmetry);
       auto directions = start;
       const par::Comm self = test::self_comm();
-      relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.topology,
+      relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.mesh,
                        fine.normals, parent_level, symmetry, 1, directions);
       const double moved = signed_angle(start[0], directions[0], fine.normals[0]);
       EXPECT_LE(std::abs(symmetric_residue(moved - theta, symmetry)), 0.01 * kDegree)
@@ -200,7 +200,7 @@ TEST(OrientationRelaxation, EnergyNeverRises) {
     for (const CoarserOrientation* parent_level : {&coarser, (const CoarserOrientation*)nullptr}) {
       auto directions = random_directions(fine.normals, 21, 1);
       const RelaxationReport report =
-          relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.topology,
+          relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
                            fine.normals, parent_level, symmetry, 30, directions);
       ASSERT_EQ(report.energy.size(), 31u);
       EXPECT_GE(report.colour_classes, 4);
@@ -237,11 +237,10 @@ TEST(OrientationRelaxation, QuarterTurnsAreFixedForFourWayOnly) {
   const auto runs = equal_runs(world, grid.topology.num_vertices());
   auto four_way = start;
   const auto fixed =
-      relax_directions(world, runs, grid.topology, grid.normals, nullptr, 4, 5, four_way);
+      relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 4, 5, four_way);
   EXPECT_LT(fixed.energy.front(), 1e-20);
   auto two_way = start;
-  const auto moved =
-      relax_directions(world, runs, grid.topology, grid.normals, nullptr, 2, 5, two_way);
+  const auto moved = relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 2, 5, two_way);
   EXPECT_LT(moved.energy.back(), 0.5 * moved.energy.front());
   double largest_four = 0.0;
   double largest_two = 0.0;
@@ -288,7 +287,7 @@ TEST(OrientationRelaxation, RelaxedSphereIsSmoothAlmostEverywhere) {
           level->normals, {parents, coarse_directions, coarse_normals}, 2, directions);
     }
     const CoarserOrientation coarser{parents, coarse_directions, coarse_normals};
-    relax_directions(world, equal_runs(world, level->topology.num_vertices()), level->topology,
+    relax_directions(world, equal_runs(world, level->topology.num_vertices()), level->mesh,
                      level->normals, &coarser, 2, 30, directions);
     coarse = std::move(level);
     coarse_directions = std::move(directions);
@@ -315,16 +314,16 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   const par::Comm self = test::self_comm();
   auto distributed = start;
   const auto distributed_report =
-      relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.topology,
+      relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
                        fine.normals, &coarser, 2, 10, distributed);
   auto serial = start;
   const auto serial_report = relax_directions(self, equal_runs(self, fine.topology.num_vertices()),
-                                              fine.topology, fine.normals, &coarser, 2, 10, serial);
+                                              fine.mesh, fine.normals, &coarser, 2, 10, serial);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(3);
   auto threaded = start;
-  relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.topology,
-                   fine.normals, &coarser, 2, 10, threaded);
+  relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.mesh, fine.normals,
+                   &coarser, 2, 10, threaded);
   omp_set_num_threads(threads);
   EXPECT_EQ(bytes_of(threaded), bytes_of(serial));
   EXPECT_EQ(bytes_of(distributed), bytes_of(serial));

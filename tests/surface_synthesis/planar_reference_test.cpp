@@ -189,7 +189,6 @@ private:
 struct GridPyramid {
   std::vector<RetiledLevel> pyramid;
   std::vector<int> sides;
-  std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<geom::Vec3>> directions;
   std::vector<std::vector<ParentFace>> parents;
 
@@ -200,7 +199,6 @@ struct GridPyramid {
     }
     parents.resize(std::size_t(levels));
     for (int k = 0; k < levels; ++k) {
-      topologies.emplace_back(pyramid[std::size_t(k)].mesh);
       directions.emplace_back(pyramid[std::size_t(k)].mesh.positions.size(), geom::Vec3(1, 0, 0));
       if (k + 1 < levels) {
         const geom::AabbTree tree(pyramid[std::size_t(k) + 1].mesh);
@@ -215,9 +213,9 @@ struct GridPyramid {
 void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> shapes) {
   const par::Comm self{MPI_COMM_SELF, 0, 1};
   const GridPyramid grid(levels, (1 << (levels - 1)) * 8 + 1);
-  const auto& [pyramid, sides, topologies, directions, parents] = grid;
+  const auto& [pyramid, sides, directions, parents] = grid;
   const auto exemplar = exemplar_pyramid(random_exemplar(32), levels, ExemplarBorder::toroidal);
-  PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
+  PyramidSynthesisInput input{pyramid, directions, parents, exemplar};
   input.shapes = shapes;
   input.seed = 9;
 
@@ -226,10 +224,9 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
   for (int k = 0; k < levels; ++k) {
     const auto layout = NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
     const auto stencils = build_level_stencils(
-        pyramid[std::size_t(k)], topologies[std::size_t(k)], directions[std::size_t(k)],
-        k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr,
-        k + 1 < levels ? &topologies[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout,
-        0, pyramid[std::size_t(k)].mesh.num_vertices());
+        pyramid[std::size_t(k)], directions[std::size_t(k)],
+        k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout, 0,
+        pyramid[std::size_t(k)].mesh.num_vertices());
     if (k == 0) {
       EXPECT_GT(stencils.uncovered(), 0) << "the grid's border leaves samples uncovered";
     }
@@ -300,8 +297,7 @@ TEST(PlanarReference, LatticeExemplarOnAGridIsReproducedClosely) {
   settings.size = 32;
   settings.periods = 1;
   const auto exemplar = exemplar_pyramid(load_exemplar(settings, 2), 4, ExemplarBorder::toroidal);
-  PyramidSynthesisInput input{grid.pyramid, grid.topologies, grid.directions, grid.parents,
-                              exemplar};
+  PyramidSynthesisInput input{grid.pyramid, grid.directions, grid.parents, exemplar};
   input.shapes = {{7, 7, 2}, {5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
   auto colours = random_start(grid.pyramid, exemplar, input.seed);
   StageTimers timers;

@@ -35,7 +35,6 @@ enum class Orientation {
 /// A pyramid with everything the synthesis loop reads.
 struct Prepared {
   std::vector<RetiledLevel> pyramid;
-  std::vector<geom::MeshTopology> topologies;
   std::vector<std::vector<geom::Vec3>> directions;
   std::vector<std::vector<ParentFace>> parents;
 
@@ -45,8 +44,6 @@ struct Prepared {
     const int n = int(pyramid.size());
     parents.resize(std::size_t(n));
     directions.resize(std::size_t(n));
-    for (const auto& level : pyramid)
-      topologies.emplace_back(level.mesh);
     for (int k = n - 1; k >= 0; --k) {
       const auto K = std::size_t(k);
       if (k + 1 < n)
@@ -67,13 +64,13 @@ struct Prepared {
         coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
         directions[K] = inherited_directions(pyramid[K].normals, *coarser, kSymmetry, random);
       }
-      relax_directions(comm, pyramid[K].rank_offsets, topologies[K], pyramid[K].normals,
+      relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                        coarser ? &*coarser : nullptr, kSymmetry, 30, directions[K]);
     }
   }
 
   PyramidSynthesisInput input(const std::vector<img::RgbImage>& exemplar) const {
-    PyramidSynthesisInput in{pyramid, topologies, directions, parents, exemplar};
+    PyramidSynthesisInput in{pyramid, directions, parents, exemplar};
     // Wei-Levoy's {7x7,2}, {5x5,2}, {3x3,2}, {1x1,1}, finest first; fewer levels keep the coarsest.
     const std::vector<NeighbourhoodShape> shapes{{7, 7, 2}, {5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
     in.shapes.assign(shapes.end() - std::ptrdiff_t(pyramid.size()), shapes.end());
@@ -179,8 +176,7 @@ TEST(Synthesis, NoClassMemberReadsAnother) {
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
   const auto stencils =
-      build_level_stencils(level, prepared.topologies[0], prepared.directions[0],
-                           &prepared.pyramid[1], &prepared.topologies[1], prepared.parents[0],
+      build_level_stencils(level, prepared.directions[0], &prepared.pyramid[1], prepared.parents[0],
                            NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
   const auto order = synthesis_order(comm, stencils, level.rank_offsets, 3, 0, Pass::refine);
   EXPECT_GT(order.classes, 1);
@@ -206,9 +202,8 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const auto n = level.mesh.num_vertices();
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
   const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
-    return build_level_stencils(level, prepared.topologies[0], prepared.directions[0],
-                                &prepared.pyramid[1], &prepared.topologies[1], prepared.parents[0],
-                                layout, first, owned);
+    return build_level_stencils(level, prepared.directions[0], &prepared.pyramid[1],
+                                prepared.parents[0], layout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto order = synthesis_order(

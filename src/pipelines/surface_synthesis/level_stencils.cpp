@@ -1,6 +1,10 @@
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 
+#include "pipelines/surface_synthesis/level_part.hpp"
+
 #include <algorithm>
+#include <numeric>
+#include <optional>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -14,6 +18,86 @@ double patch_radius(std::span<const Eigen::Vector2d> positions, double spacing) 
   return radius + spacing;
 }
 
+/// Samples the patch flattened on `part` into `out` with the level's vertex ids; false when the
+/// patch used a triangle whose neighbours the part may lack (it might differ from the patch on
+/// the whole level).
+bool sample_on_level(const LevelPart& part, const FlattenedPatch& patch,
+                     std::span<const Eigen::Vector2d> positions, std::span<SampleWeights> out) {
+  sample_patch(patch, positions, out);
+  for (SampleWeights& sample : out)
+    if (sample.covered())
+      for (std::int32_t& vertex : sample.vertices)
+        vertex = part.global_vertex(vertex);
+  return std::all_of(patch.triangles.begin(), patch.triangles.end(),
+                     [&](std::int32_t t) { return part.complete(t); });
+}
+
+/// Flattens the stencils' patches on LevelParts of the level and the coarser level.
+struct StencilPatches {
+  const RetiledLevel& level;
+  std::span<const geom::Vec3> directions;
+  const RetiledLevel* coarser;
+  std::span<const ParentFace> parents;
+  std::span<const Eigen::Vector2d> current_positions, coarser_positions;
+  double current_radius, coarser_radius;
+
+  /// The stencils of `vertices` (ascending) on parts grown `growth` times patch_reach() around
+  /// them (and their parent faces); returns the vertices whose patches left their parts' complete
+  /// triangles, whose stencils may differ from those on the whole level.
+  std::vector<std::int64_t> flatten(std::span<const std::int64_t> vertices, double growth,
+                                    LevelStencils& stencils) const {
+    std::vector<geom::Vec3> centres;
+    for (const std::int64_t v : vertices)
+      centres.push_back(level.mesh.positions[std::size_t(v)]);
+    const LevelPart part(level.mesh, centres, growth * patch_reach(current_radius));
+    std::optional<LevelPart> coarser_part;
+    if (stencils.coarser_count > 0) { // around the vertices and their parent faces' corners
+      for (const std::int64_t v : vertices)
+        if (parents[std::size_t(v)].found())
+          for (const std::int32_t u : parents[std::size_t(v)].vertices)
+            centres.push_back(coarser->mesh.positions[std::size_t(u)]);
+      coarser_part.emplace(coarser->mesh, centres, growth * patch_reach(coarser_radius));
+    }
+    std::vector<char> escaped(vertices.size(), 0);
+#pragma omp parallel
+    {
+      FlattenedPatch patch;
+      PatchScratch scratch;
+#pragma omp for schedule(dynamic, 64)
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        const auto v = std::size_t(vertices[i]);
+        const auto local = std::size_t(vertices[i] - stencils.first);
+        const geom::Vec3& n = level.normals[v];
+        const geom::Vec3& s = directions[v];
+        const TangentFrame frame{level.mesh.positions[v], s, n.cross(s), n};
+        const auto around =
+            part.topology().vertex_triangles().row(part.local_vertex(std::int32_t(v)));
+        flatten_patch(part.mesh(), part.topology(), around, frame, current_radius, patch, scratch);
+        bool inside = sample_on_level(
+            part, patch, current_positions,
+            {stencils.current.data() + local * stencils.current_count, stencils.current_count});
+        if (stencils.coarser_count > 0 && parents[v].found()) {
+          // The parent face's corners are centres of the coarser part, so it holds the face.
+          const std::int32_t face = coarser_part->local_triangle(parents[v].triangle);
+          flatten_patch(coarser_part->mesh(), coarser_part->topology(),
+                        std::span<const std::int32_t>(&face, 1), frame, coarser_radius, patch,
+                        scratch);
+          inside = sample_on_level(*coarser_part, patch, coarser_positions,
+                                   {stencils.coarser.data() + local * stencils.coarser_count,
+                                    stencils.coarser_count}) &&
+                   inside;
+        }
+        escaped[i] = !inside;
+      }
+    }
+    std::vector<std::int64_t> again;
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      if (escaped[i])
+        again.push_back(vertices[i]);
+    return again;
+  }
+};
+
 } // namespace
 
 std::int64_t LevelStencils::uncovered() const {
@@ -24,11 +108,9 @@ std::int64_t LevelStencils::uncovered() const {
   return count(current) + count(coarser);
 }
 
-LevelStencils build_level_stencils(const RetiledLevel& level, const geom::MeshTopology& topology,
+LevelStencils build_level_stencils(const RetiledLevel& level,
                                    std::span<const geom::Vec3> directions,
-                                   const RetiledLevel* coarser,
-                                   const geom::MeshTopology* coarser_topology,
-                                   std::span<const ParentFace> parents,
+                                   const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
                                    std::int64_t owned) {
   LevelStencils stencils;
@@ -43,34 +125,16 @@ LevelStencils build_level_stencils(const RetiledLevel& level, const geom::MeshTo
   stencils.coarser.resize(std::size_t(owned) * stencils.coarser_count);
   const double current_radius = patch_radius(current_positions, d);
   const double coarser_radius = coarser ? patch_radius(coarser_positions, coarser->spacing) : 0;
-  const auto& vertex_triangles = topology.vertex_triangles();
 
-#pragma omp parallel
-  {
-    FlattenedPatch patch;
-    PatchScratch scratch;
-#pragma omp for schedule(dynamic, 64)
-    for (std::int64_t local = 0; local < owned; ++local) {
-      const auto v = std::size_t(first + local);
-      const geom::Vec3& n = level.normals[v];
-      const geom::Vec3& s = directions[v];
-      const TangentFrame frame{level.mesh.positions[v], s, n.cross(s), n};
-      const auto around = vertex_triangles.row(std::int32_t(v));
-      flatten_patch(level.mesh, topology, around, frame, current_radius, patch, scratch);
-      sample_patch(patch, current_positions,
-                   {stencils.current.data() + std::size_t(local) * stencils.current_count,
-                    stencils.current_count});
-      if (stencils.coarser_count == 0 || !parents[v].found())
-        continue;
-      // The parent face's triangle id: the coarse triangle whose corners the parent lists.
-      const std::int32_t face = parents[v].triangle;
-      flatten_patch(coarser->mesh, *coarser_topology, std::span<const std::int32_t>(&face, 1),
-                    frame, coarser_radius, patch, scratch);
-      sample_patch(patch, coarser_positions,
-                   {stencils.coarser.data() + std::size_t(local) * stencils.coarser_count,
-                    stencils.coarser_count});
-    }
-  }
+  const StencilPatches patches{level,          directions,        coarser,
+                               parents,        current_positions, coarser_positions,
+                               current_radius, coarser_radius};
+  std::vector<std::int64_t> pending(static_cast<std::size_t>(owned));
+  std::iota(pending.begin(), pending.end(), first);
+  // Each round redoes the vertices whose patches left the last round's parts, on parts twice as
+  // wide; a part as wide as the level holds every patch, so the rounds end.
+  for (double growth = 1; !pending.empty(); growth *= 2)
+    pending = patches.flatten(pending, growth, stencils);
   return stencils;
 }
 

@@ -4,7 +4,6 @@
 /// vertices of the flattened triangle holding it and their weights. Built once per level and
 /// used by both passes, the neighbourhood-error metric and the halo lists (which vertices a rank
 /// reads), so flattening costs one patch per vertex and level, not one per query.
-#include "geom/mesh_topology.hpp"
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
 #include "pipelines/surface_synthesis/neighbourhood_template.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
@@ -40,12 +39,15 @@ struct LevelStencils {
 /// triangles around each vertex in its frame (normal, `directions`, t = n x s) at the level's
 /// spacing d; the coarser part flattened on `coarser` from the vertex's parent face (`parents`)
 /// at 2d, skipped (uncovered) where no parent face was found. `coarser` may be null when the
-/// layout has no coarser part. OpenMP over vertices; deterministic. Not collective.
-LevelStencils build_level_stencils(const RetiledLevel& level, const geom::MeshTopology& topology,
+/// layout has no coarser part. The patches are flattened on LevelParts of both levels around the
+/// owned vertices (and their parent faces), built here and dropped on return, so no rank builds
+/// the topology of a whole level; the few vertices whose patches leave their parts' complete
+/// triangles are flattened again on parts twice as wide around them, until none does, so every
+/// stencil is the one the whole level gives. OpenMP over vertices; deterministic. Not
+/// collective.
+LevelStencils build_level_stencils(const RetiledLevel& level,
                                    std::span<const geom::Vec3> directions,
-                                   const RetiledLevel* coarser,
-                                   const geom::MeshTopology* coarser_topology,
-                                   std::span<const ParentFace> parents,
+                                   const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
                                    std::int64_t owned);
 

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "par/greedy_colouring.hpp"
 #include "par/record_exchange.hpp"
+#include "pipelines/surface_synthesis/level_part.hpp"
 
 #include <mpi.h>
 
@@ -14,19 +15,15 @@ namespace texsim::pipelines::surface_synthesis {
 namespace {
 
 /// Classes of the greedy colouring of the 1-ring graph in vertex id order (par::greedy_colouring
-/// on each rank's run), each class with every rank's members in id order.
+/// on each rank's run, whose rings are `rings`), each class with every rank's members in id order.
 std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
                                                       std::span<const std::int64_t> rank_offsets,
-                                                      const geom::MeshTopology& topology) {
-  const geom::CsrAdjacency& ring = topology.vertex_neighbors();
+                                                      const geom::CsrAdjacency& rings) {
   const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
   const std::int64_t end = rank_offsets[std::size_t(comm.rank) + 1];
   par::OwnedAdjacency rows;
-  for (std::int64_t v = first; v < end; ++v) {
-    for (const std::int32_t q : ring.row(std::int32_t(v)))
-      rows.neighbours.push_back(q);
-    rows.offsets.push_back(std::int64_t(rows.neighbours.size()));
-  }
+  rows.neighbours.assign(rings.indices.begin(), rings.indices.end());
+  rows.offsets.assign(rings.offsets.begin(), rings.offsets.end());
   const auto colouring = par::greedy_colouring(comm, rank_offsets, std::move(rows),
                                                [](std::int64_t) { return std::uint64_t(0); });
   std::vector<std::vector<std::int32_t>> owned(std::size_t(colouring.classes));
@@ -41,10 +38,11 @@ std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
 /// What one vertex's update reads: the level's geometry and directions and the fixed coarser level.
 class VertexEnergy {
 public:
-  VertexEnergy(const geom::MeshTopology& topology, std::span<const geom::Vec3> normals,
-               const CoarserOrientation* coarser, int symmetry,
+  /// `rings`: the 1-rings of the rank's run, which starts at vertex `first`.
+  VertexEnergy(const geom::CsrAdjacency& rings, std::int64_t first,
+               std::span<const geom::Vec3> normals, const CoarserOrientation* coarser, int symmetry,
                const std::vector<geom::Vec3>& directions)
-      : ring_(topology.vertex_neighbors()), normals_(normals),
+      : rings_(rings), first_(first), normals_(normals),
         coarser_(coarser != nullptr && !coarser->parents.empty() ? coarser : nullptr),
         symmetry_(symmetry), directions_(directions) {}
 
@@ -54,7 +52,7 @@ public:
     angles.clear();
     const geom::Vec3& s_p = directions_[p];
     const geom::Vec3& n_p = normals_[p];
-    for (const std::int32_t q : ring_.row(p))
+    for (const std::int32_t q : rings_.row(std::int32_t(p - first_)))
       if (const auto phi = relative_angle(s_p, n_p, directions_[q], normals_[q]))
         angles.push_back(*phi);
     const std::size_t ring_count = angles.size();
@@ -89,7 +87,8 @@ public:
   }
 
 private:
-  const geom::CsrAdjacency& ring_;
+  const geom::CsrAdjacency& rings_;
+  std::int64_t first_;
   std::span<const geom::Vec3> normals_;
   const CoarserOrientation* coarser_;
   int symmetry_;
@@ -155,10 +154,10 @@ void relax_class(const par::Comm& comm, std::span<const std::int64_t> rank_offse
 }
 
 void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                   const geom::MeshTopology& topology, std::span<const geom::Vec3> normals,
+                   const geom::TriangleMesh& mesh, std::span<const geom::Vec3> normals,
                    const CoarserOrientation* coarser, int symmetry, int sweeps,
                    const std::vector<geom::Vec3>& directions) {
-  const std::int64_t count = topology.num_vertices();
+  const std::int64_t count = mesh.num_vertices();
   TEXSIM_VERIFY(symmetry >= 1, "orientation symmetry " << symmetry << " is below 1");
   TEXSIM_VERIFY(sweeps >= 0, "relaxation sweeps " << sweeps << " is negative");
   TEXSIM_VERIFY(std::int64_t(normals.size()) == count && std::int64_t(directions.size()) == count,
@@ -226,13 +225,16 @@ double minimising_rotation(std::span<const double> angles, int symmetry) {
 }
 
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                                  const geom::MeshTopology& topology,
+                                  const geom::TriangleMesh& mesh,
                                   std::span<const geom::Vec3> normals,
                                   const CoarserOrientation* coarser, int symmetry, int sweeps,
                                   std::vector<geom::Vec3>& directions) {
-  verify_inputs(comm, rank_offsets, topology, normals, coarser, symmetry, sweeps, directions);
-  const auto classes = colour_classes(comm, rank_offsets, topology);
-  const VertexEnergy energy(topology, normals, coarser, symmetry, directions);
+  verify_inputs(comm, rank_offsets, mesh, normals, coarser, symmetry, sweeps, directions);
+  const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
+  const geom::CsrAdjacency rings =
+      run_rings(mesh, first, rank_offsets[std::size_t(comm.rank) + 1] - first);
+  const auto classes = colour_classes(comm, rank_offsets, rings);
+  const VertexEnergy energy(rings, first, normals, coarser, symmetry, directions);
   RelaxationReport report;
   report.colour_classes = std::int32_t(classes.size());
   report.energy.push_back(total_energy(comm, rank_offsets, energy));

@@ -9,7 +9,7 @@
 ///     = sum_p (E_p^ring / 2 + E_p^parent)
 /// changes by exactly the change of E_p when s_p alone moves: setting s_p to the exact minimiser of
 /// E_p never raises E (up to rounding).
-#include "geom/mesh_topology.hpp"
+#include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 
@@ -39,14 +39,15 @@ struct RelaxationReport {
 /// given and has parents); a rotation that does not lower E_p strictly leaves s_p untouched.
 /// Updated directions are unit vectors in their tangent planes.
 ///
-/// Distribution: geometry replicated; each rank updates the vertices of its run
+/// Distribution: geometry replicated; each rank finds the 1-rings of its run in `mesh`'s
+/// triangles (no whole-level topology) and updates the vertices of its run
 /// [rank_offsets[r], rank_offsets[r+1]) in each class (OpenMP threads share the run), then the
 /// class's new directions are all-gathered. `directions` (per vertex, replicated) are the same
 /// bits on return for any rank count and thread count. rank_offsets has comm.size + 1
 /// non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1, sweeps >= 0.
 /// Collective.
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                                  const geom::MeshTopology& topology,
+                                  const geom::TriangleMesh& mesh,
                                   std::span<const geom::Vec3> normals,
                                   const CoarserOrientation* coarser, int symmetry, int sweeps,
                                   std::vector<geom::Vec3>& directions);

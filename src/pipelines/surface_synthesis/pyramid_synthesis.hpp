@@ -3,7 +3,6 @@
 /// each the stencils, the colour classes of both passes and the searches, with hooks where the
 /// pipeline checkpoints, stops and writes frames. Tests drive it on given pyramids (flat grids).
 #include "core/stage_timers.hpp"
-#include "geom/mesh_topology.hpp"
 #include "img/image.hpp"
 #include "par/comm.hpp"
 #include "pipelines/surface_synthesis/level_synthesizer.hpp"
@@ -20,7 +19,6 @@ namespace texsim::pipelines::surface_synthesis {
 /// Everything the loop reads; per-level vectors are indexed by level (0 = finest).
 struct PyramidSynthesisInput {
   const std::vector<RetiledLevel>& pyramid;
-  const std::vector<geom::MeshTopology>& topologies;
   const std::vector<std::vector<geom::Vec3>>& directions;
   /// Level k's parent faces on level k + 1 (empty for the coarsest).
   const std::vector<std::vector<ParentFace>>& parents;

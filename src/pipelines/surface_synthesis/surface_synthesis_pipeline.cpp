@@ -8,7 +8,6 @@
 #include "geom/aabb_tree.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_source.hpp"
-#include "geom/mesh_topology.hpp"
 #include "geom/point_expression.hpp"
 #include "geom/surface_field_sampler.hpp"
 #include "io/checkpoint_store.hpp"
@@ -126,9 +125,6 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     }
     report.metric("levels", level_metrics);
   }
-  std::vector<geom::MeshTopology> topologies;
-  for (const auto& level : pyramid)
-    topologies.emplace_back(level.mesh);
 
   // Parent faces (level k on level k + 1) and orientation, coarse to fine.
   std::vector<std::vector<ParentFace>> parents(static_cast<std::size_t>(levels));
@@ -173,9 +169,9 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         } else {
           s = random;
         }
-        const auto relaxed = relax_directions(comm, level.rank_offsets, topologies[std::size_t(k)],
-                                              level.normals, coarser ? &*coarser : nullptr,
-                                              orientation.symmetry, orientation.sweeps, s);
+        const auto relaxed = relax_directions(comm, level.rank_offsets, level.mesh, level.normals,
+                                              coarser ? &*coarser : nullptr, orientation.symmetry,
+                                              orientation.sweeps, s);
         relax_metrics.push_back({{"level", k},
                                  {"energy_start", relaxed.energy.front()},
                                  {"energy_end", relaxed.energy.back()},
@@ -231,7 +227,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
                  colours[std::size_t(k)]);
     progress.update(2 * (levels - 1 - k) + int(pass));
   };
-  PyramidSynthesisInput input{pyramid, topologies, directions, parents, exemplar};
+  PyramidSynthesisInput input{pyramid, directions, parents, exemplar};
   for (int k = 0; k < levels; ++k)
     input.shapes.push_back(settings_.shape(k));
   input.method = settings_.search;
