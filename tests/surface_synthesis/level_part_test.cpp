@@ -27,9 +27,13 @@ namespace {
 constexpr int kRuns = 8;
 
 /// The patch radius of the {7x7} template at spacing d, as level_stencils asks for it.
-double template_radius(double d) { return 3.0 * std::sqrt(2.0) * d + d; }
+double template_radius(double d) {
+  return 3.0 * std::sqrt(2.0) * d + d;
+}
 
-par::Comm self() { return {MPI_COMM_SELF, 0, 1}; }
+par::Comm self() {
+  return {MPI_COMM_SELF, 0, 1};
+}
 
 RetiledLevel retiled(const geom::TriangleMesh& surface, std::int64_t vertices) {
   MeshPyramidSettings settings;
@@ -120,8 +124,7 @@ void expect_whole_level_stencils(const RetiledLevel& level,
         build_level_stencils(level, directions, nullptr, {}, layout, first, end - first);
     for (std::int64_t v = first; v < end; ++v) {
       flatten_patch(level.mesh, topology, topology.vertex_triangles().row(std::int32_t(v)),
-                    frame_at(level, directions, v), template_radius(level.spacing), patch,
-                    scratch);
+                    frame_at(level, directions, v), template_radius(level.spacing), patch, scratch);
       sample_patch(patch, positions, expected);
       const auto found = stencils.current_of(v - first);
       ASSERT_EQ(found.size(), expected.size());

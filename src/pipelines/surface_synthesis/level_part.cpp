@@ -27,8 +27,8 @@ LevelPart::LevelPart(const geom::TriangleMesh& level, std::span<const geom::Vec3
         TEXSIM_VERIFY(reach > 0, "level part: reach " << reach << " must be positive");
         // A triangle with a corner near the centres is in the part; one with all three corners
         // near is complete, since every triangle sharing one of those corners is in the part.
-        const auto near = geom::inside_boxes(level.positions,
-                                             geom::covering_boxes(centres, reach, reach));
+        const auto near =
+            geom::inside_boxes(level.positions, geom::covering_boxes(centres, reach, reach));
         Selection chosen;
         std::vector<std::int32_t> local_of(level.positions.size(), -1);
         for (std::int32_t t = 0; t < level.num_triangles(); ++t) {
@@ -69,7 +69,9 @@ std::int32_t LevelPart::local_triangle(std::int32_t global) const {
   return find_sorted(part_.global_triangle, global);
 }
 
-double patch_reach(double patch_radius) { return 2.0 * patch_radius; }
+double patch_reach(double patch_radius) {
+  return 2.0 * patch_radius;
+}
 
 geom::CsrAdjacency run_rings(const geom::TriangleMesh& mesh, std::int64_t first,
                              std::int64_t count) {

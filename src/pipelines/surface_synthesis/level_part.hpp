@@ -9,7 +9,6 @@
 
 #include <cstdint>
 #include <span>
-#include <utility>
 #include <vector>
 
 namespace texsim::pipelines::surface_synthesis {
@@ -17,9 +16,9 @@ namespace texsim::pipelines::surface_synthesis {
 class LevelPart {
 public:
   /// The triangles of `level` with a corner within `reach` of one of `centres` (through
-  /// geom::covering_boxes with cells of edge `reach`, so somewhat more), in increasing id order; local vertex ids follow
-  /// the vertices' ids on the level, so every order (triangles around a vertex or an edge, edge
-  /// ids) is the level's. reach > 0. Serial.
+  /// geom::covering_boxes with cells of edge `reach`, so somewhat more), in increasing id order.
+  /// Local vertex ids follow the vertices' ids on the level, so every order (triangles around a
+  /// vertex or an edge, edge ids) is the level's. reach > 0. Serial.
   LevelPart(const geom::TriangleMesh& level, std::span<const geom::Vec3> centres, double reach);
 
   const geom::TriangleMesh& mesh() const { return part_.mesh; }
