@@ -16,9 +16,11 @@
 // depend on the machine. The working directory holds a copy of data/, a finished fem_rd run in
 // previous/ and an interrupted one (frames only) in interrupted/.
 //
-// A case spends most of its 2.5 s asleep: mpirun waits about 2 s after a rank exits non-zero
-// before it ends the job. So the cases run kConcurrentCases at a time (each test starts the cases
-// after it and then waits for its own), which takes the corpus from 343 s to 87 s.
+// A case spends most of its time asleep: after a rank exits non-zero, mpirun signals the job and
+// waits odls_base_sigkill_timeout (1 s) before it ends, even when every rank has already exited.
+// The cases run with that wait at 0 (a rank that hung would be killed at once instead of after a
+// second, so only the timeout below still catches hangs, as before) and kConcurrentCases at a
+// time (each test starts the cases after it and then waits for its own).
 #include "support/run_command.hpp"
 
 #include <gtest/gtest.h>
@@ -163,7 +165,8 @@ std::string shell_command(const BadInputCase& c, const fs::path& config) {
   std::string args = expanded(c, c.args);
   for (auto pos = args.find("CONFIG"); pos != std::string::npos; pos = args.find("CONFIG"))
     args.replace(pos, 6, config.string());
-  const std::string mpirun = texsim::test::texsim_under_mpirun(2);
+  const std::string mpirun =
+      texsim::test::texsim_under_mpirun(2, "--mca odls_base_sigkill_timeout 0");
   const auto binary = mpirun.rfind(' ');
   return command + " timeout -k 10 " + std::to_string(kTimeoutSeconds) + " " +
          mpirun.substr(0, binary) + forwarded + mpirun.substr(binary) + " " + args;
