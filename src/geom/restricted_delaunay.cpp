@@ -3,12 +3,16 @@
 #include "core/error.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/restricted_voronoi.hpp"
+#include "par/collective.hpp"
+#include "par/gather_to_root.hpp"
+#include "par/record_exchange.hpp"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -358,11 +362,9 @@ Sighting sighting_of(const Triangle& t, std::span<const std::int64_t> seed_ids) 
           same_cycle ? 1 : -1};
 }
 
-} // namespace
-
-TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids,
-                                 std::int32_t chunk_triangles) {
+/// The dual input of every triangle of `surface`, computed `chunk_triangles` at a time.
+DualInput dual_input(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                     std::span<const std::int64_t> seed_ids, std::int32_t chunk_triangles) {
   TEXSIM_VERIFY(chunk_triangles > 0,
                 "restricted_delaunay: chunk_triangles " << chunk_triangles << " is not positive");
   DualInput input;
@@ -372,6 +374,12 @@ TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Ve
     std::iota(chunk.begin(), chunk.end(), first);
     add_pieces(surface, restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true), input);
   }
+  return input;
+}
+
+/// The triangles of the dual of the pieces in `input` (of `surface`'s triangles).
+TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                       std::span<const std::int64_t> seed_ids, const DualInput& input) {
   TEXSIM_VERIFY(input.pieces.size() < std::size_t(std::numeric_limits<std::int32_t>::max()) &&
                     input.borders.size() < std::size_t(std::numeric_limits<std::uint32_t>::max()),
                 "restricted_delaunay: more than 2^31 Voronoi pieces");
@@ -402,6 +410,166 @@ TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Ve
     mesh.triangles.push_back(votes >= 0 ? v : Triangle{v[0], v[2], v[1]});
     s = end;
   }
+  return mesh;
+}
+
+/// Triangles [first, end) of the whole surface's T on `rank` of `ranks`: equal runs of ids.
+std::int32_t share_begin(std::int64_t triangles, int rank, int ranks) {
+  return std::int32_t(triangles * rank / ranks);
+}
+
+/// A rank's dual input on the wire: counts, then the pieces (borders counted, not indexed), the
+/// borders, the meetings and the neighbour pairs, as plain numbers.
+std::vector<std::byte> serialize(const DualInput& input) {
+  std::vector<std::byte> bytes;
+  const auto put = [&bytes](const auto& value) {
+    const auto* raw = reinterpret_cast<const std::byte*>(&value);
+    bytes.insert(bytes.end(), raw, raw + sizeof(value));
+  };
+  put(std::uint64_t(input.pieces.size()));
+  put(std::uint64_t(input.borders.size()));
+  put(std::uint64_t(input.meetings.size()));
+  put(std::uint64_t(input.neighbour_pairs.size()));
+  for (const PieceSummary& piece : input.pieces) {
+    put(piece.triangle);
+    put(piece.seed);
+    put(piece.area);
+    put(piece.border_count);
+    put(piece.linked_sides);
+  }
+  for (const auto& [seed, length] : input.borders) {
+    put(seed);
+    put(length);
+  }
+  for (const Meeting& meeting : input.meetings) {
+    put(meeting.piece);
+    put(meeting.a);
+    put(meeting.b);
+    put(meeting.point.x());
+    put(meeting.point.y());
+    put(meeting.point.z());
+  }
+  for (const auto& [from, to] : input.neighbour_pairs) {
+    put(from);
+    put(to);
+  }
+  return bytes;
+}
+
+/// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
+/// its triangle, border and piece indices are moved past the ones already there, and the pairs
+/// are merged, so appending the ranks' parts in order gives the serial input.
+void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
+  std::size_t at = 0;
+  const auto get = [&bytes, &at](auto& value) {
+    std::memcpy(&value, bytes.data() + at, sizeof(value));
+    at += sizeof(value);
+  };
+  std::uint64_t pieces = 0, borders = 0, meetings = 0, pairs = 0;
+  get(pieces);
+  get(borders);
+  get(meetings);
+  get(pairs);
+  const auto first_piece = std::int32_t(input.pieces.size());
+  auto first_border = std::uint64_t(input.borders.size());
+  for (std::uint64_t p = 0; p < pieces; ++p) {
+    PieceSummary piece;
+    get(piece.triangle);
+    get(piece.seed);
+    get(piece.area);
+    get(piece.border_count);
+    get(piece.linked_sides);
+    piece.triangle += first_triangle;
+    piece.first_border = std::uint32_t(first_border);
+    first_border += piece.border_count;
+    input.pieces.push_back(piece);
+  }
+  TEXSIM_VERIFY(first_border == input.borders.size() + borders,
+                "restricted_delaunay: a rank's borders do not match its pieces");
+  for (std::uint64_t b = 0; b < borders; ++b) {
+    std::pair<std::int32_t, double> border;
+    get(border.first);
+    get(border.second);
+    input.borders.push_back(border);
+  }
+  for (std::uint64_t m = 0; m < meetings; ++m) {
+    Meeting meeting{};
+    double x = 0, y = 0, z = 0;
+    get(meeting.piece);
+    get(meeting.a);
+    get(meeting.b);
+    get(x);
+    get(y);
+    get(z);
+    meeting.piece += first_piece;
+    meeting.point = {x, y, z};
+    input.meetings.push_back(meeting);
+  }
+  std::vector<std::pair<std::int32_t, std::int32_t>> merged(input.neighbour_pairs.size() + pairs);
+  auto next = std::copy(input.neighbour_pairs.begin(), input.neighbour_pairs.end(), merged.begin());
+  for (std::uint64_t k = 0; k < pairs; ++k, ++next) {
+    get(next->first);
+    get(next->second);
+  }
+  std::inplace_merge(merged.begin(), merged.begin() + std::ptrdiff_t(input.neighbour_pairs.size()),
+                     merged.end());
+  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+  input.neighbour_pairs = std::move(merged);
+  TEXSIM_VERIFY(at == bytes.size(), "restricted_delaunay: a rank's dual input has trailing bytes");
+}
+
+} // namespace
+
+TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles) {
+  return dual_mesh(surface, seeds, seed_ids, dual_input(surface, seeds, seed_ids, chunk_triangles));
+}
+
+TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
+                                 std::span<const Vec3> seeds,
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles) {
+  // Rank 0 sends every rank an equal run of its triangles, as corner positions.
+  using Corners = std::array<double, 9>;
+  std::vector<std::vector<Corners>> outgoing(std::size_t(comm.size));
+  std::int64_t triangles = 0;
+  if (comm.is_root()) {
+    triangles = root_surface.num_triangles();
+    for (int r = 0; r < comm.size; ++r)
+      for (auto t = share_begin(triangles, r, comm.size);
+           t < share_begin(triangles, r + 1, comm.size); ++t) {
+        Corners corners{};
+        for (std::size_t c = 0; c < 3; ++c)
+          for (int axis = 0; axis < 3; ++axis)
+            corners[3 * c + std::size_t(axis)] =
+                root_surface.positions[std::size_t(root_surface.triangles[std::size_t(t)][c])](
+                    axis);
+        outgoing[std::size_t(r)].push_back(corners);
+      }
+  }
+  const std::vector<Corners> mine = par::exchange_records(comm, std::move(outgoing));
+  TriangleMesh share;
+  for (const Corners& corners : mine) {
+    const auto first = std::int32_t(share.positions.size());
+    for (std::size_t c = 0; c < 3; ++c)
+      share.positions.emplace_back(corners[3 * c], corners[3 * c + 1], corners[3 * c + 2]);
+    share.triangles.push_back({first, first + 1, first + 2});
+  }
+  // The pieces depend only on a triangle's corners and the seeds, so each rank's are the bits the
+  // whole surface gives; rank 0 appends them in rank order, which is the serial order.
+  std::vector<std::byte> bytes;
+  par::run_collectively(
+      comm, [&] { bytes = serialize(dual_input(share, seeds, seed_ids, chunk_triangles)); });
+  DualInput input;
+  par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
+    append(part, share_begin(triangles, rank, comm.size), input);
+  });
+  TriangleMesh mesh;
+  par::run_collectively(comm, [&] {
+    if (comm.is_root())
+      mesh = dual_mesh(root_surface, seeds, seed_ids, input);
+  });
   return mesh;
 }
 

@@ -5,6 +5,7 @@
 /// Wei-Levoy's mesh pyramid (SIGGRAPH '01, Section 3.1) turn evenly spread points into a mesh whose
 /// vertices are those points.
 #include "geom/triangle_mesh.hpp"
+#include "par/comm.hpp"
 
 #include <cstdint>
 #include <span>
@@ -52,6 +53,17 @@ inline constexpr std::int32_t kRestrictedDelaunayChunk = 1 << 16;
 /// needs (about 32 bytes a piece, plus its borders and meetings), so the polygons of the whole
 /// surface are never held at once; the result does not depend on the chunk size.
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles = kRestrictedDelaunayChunk);
+
+/// The same result on rank 0 (an empty mesh on the others), with the Voronoi pieces, most of the
+/// work, computed by every rank on an equal run of `root_surface`'s triangles, which rank 0 alone
+/// holds (the others pass an empty mesh) and sends as corner positions. Every rank passes all
+/// seeds and ids. The pieces of a triangle depend only on its corners and the seeds, so the result
+/// is the serial one, bit for bit, at any rank count. Rank 0 then joins the pieces into cells and
+/// triangles as above. A failure on any rank throws on every rank. Collective.
+TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
+                                 std::span<const Vec3> seeds,
                                  std::span<const std::int64_t> seed_ids,
                                  std::int32_t chunk_triangles = kRestrictedDelaunayChunk);
 

@@ -2,6 +2,7 @@
 // surface's Euler characteristic, oriented like the surface, independent of triangle and seed
 // order, threads and chunk size; square lattices (four cells per Voronoi vertex) split
 // consistently by ids; and the Voronoi pieces' edge labels name seeds equidistant from their edges.
+#include "core/error.hpp"
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
@@ -156,6 +157,32 @@ TEST(RestrictedDelaunay, IndependentOfTriangleOrderSeedOrderAndThreads) {
     EXPECT_EQ(restricted_delaunay(ring, seeds.points, seeds.ids, chunk).triangles,
               reference.triangles)
         << "chunks of " << chunk << " triangles";
+}
+
+TEST(RestrictedDelaunay, PiecesCutOnEveryRankGiveTheSerialMesh) {
+  // Only rank 0 passes the surface; every rank cuts the pieces of its run of triangles. Chunks of
+  // 7 triangles also split each rank's run; the hand-overs of the ring's twice-met cells join
+  // pieces from different ranks.
+  const par::Comm world = par::world();
+  const TriangleMesh ring = noisy(icosphere(4), 0.05, 3);
+  const Seeds seeds = relaxed_seeds(ring, 1500, 2);
+  const TriangleMesh reference = restricted_delaunay(ring, seeds.points, seeds.ids);
+  for (const std::int32_t chunk : {7, kRestrictedDelaunayChunk}) {
+    const TriangleMesh distributed = restricted_delaunay(
+        world, world.is_root() ? ring : TriangleMesh{}, seeds.points, seeds.ids, chunk);
+    if (world.is_root()) {
+      EXPECT_EQ(distributed.positions, reference.positions);
+      EXPECT_EQ(distributed.triangles, reference.triangles) << "chunks of " << chunk;
+    } else {
+      EXPECT_EQ(distributed.num_triangles(), 0);
+    }
+  }
+  // A rank's failure (here: a non-finite seed) is every rank's error, not a hang.
+  Seeds broken = seeds;
+  broken.points[7].x() = std::nan("");
+  EXPECT_THROW(restricted_delaunay(world, world.is_root() ? ring : TriangleMesh{}, broken.points,
+                                   broken.ids),
+               Error);
 }
 
 // Seeds at the centres of an m x m lattice of unit squares on a flat square: every inner lattice
