@@ -125,13 +125,16 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
     const auto offsets = cells.rank_offsets();
     retiled.rank_offsets.assign(offsets.begin(), offsets.end());
   }
-  // Rank 0 connects the cells on the surface it holds; every rank gets its triangles.
+  // Every rank cuts the Voronoi pieces of a share of the surface rank 0 holds; rank 0 connects
+  // the cells and checks the result; every rank gets its triangles.
+  std::vector<std::int64_t> ids(retiled.mesh.positions.size());
+  std::iota(ids.begin(), ids.end(), std::int64_t{0});
+  geom::TriangleMesh connected =
+      geom::restricted_delaunay(comm, *placed_on, retiled.mesh.positions, ids);
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
       return;
-    std::vector<std::int64_t> ids(retiled.mesh.positions.size());
-    std::iota(ids.begin(), ids.end(), std::int64_t{0});
-    retiled.mesh = geom::restricted_delaunay(*placed_on, retiled.mesh.positions, ids);
+    retiled.mesh = std::move(connected);
     const std::string defects = topology_defects(retiled.mesh, surface_shape);
     if (!defects.empty())
       TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "

@@ -50,7 +50,9 @@ struct RetiledLevel {
 /// the same bytes for any rank or thread count (SurfaceCells ids do not depend on them).
 /// Collective over comm. Only rank 0's `surface` is read (the others may pass an empty mesh): rank
 /// 0 simplifies it, splits each level's surface over the ranks for the retiling
-/// (geom::DistributedTriangles::from_root) and connects the cells, so no other rank holds it.
+/// (geom::DistributedTriangles::from_root) and connects the cells (every rank cuts the Voronoi
+/// pieces of a run of the surface's triangles: geom::restricted_delaunay's collective form), so no
+/// other rank holds it.
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,
                                              const MeshPyramidSettings& settings);
