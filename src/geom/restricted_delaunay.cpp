@@ -457,8 +457,9 @@ std::vector<std::byte> serialize(const DualInput& input) {
 }
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
-/// its triangle, border and piece indices are moved past the ones already there, and the pairs
-/// are merged, so appending the ranks' parts in order gives the serial input.
+/// its triangle, border and piece indices are moved past the ones already there. Appending the
+/// ranks' parts in order gives the serial input once the neighbour pairs are sorted and made
+/// unique (one sort at the end: merging at every rank would cost ranks x pairs).
 void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
   std::size_t at = 0;
   const auto get = [&bytes, &at](auto& value) {
@@ -505,16 +506,12 @@ void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualI
     meeting.point = {x, y, z};
     input.meetings.push_back(meeting);
   }
-  std::vector<std::pair<std::int32_t, std::int32_t>> merged(input.neighbour_pairs.size() + pairs);
-  auto next = std::copy(input.neighbour_pairs.begin(), input.neighbour_pairs.end(), merged.begin());
-  for (std::uint64_t k = 0; k < pairs; ++k, ++next) {
-    get(next->first);
-    get(next->second);
+  for (std::uint64_t k = 0; k < pairs; ++k) {
+    std::pair<std::int32_t, std::int32_t> pair;
+    get(pair.first);
+    get(pair.second);
+    input.neighbour_pairs.push_back(pair);
   }
-  std::inplace_merge(merged.begin(), merged.begin() + std::ptrdiff_t(input.neighbour_pairs.size()),
-                     merged.end());
-  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
-  input.neighbour_pairs = std::move(merged);
   TEXSIM_VERIFY(at == bytes.size(), "restricted_delaunay: a rank's dual input has trailing bytes");
 }
 
@@ -565,6 +562,9 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
     append(part, share_begin(triangles, rank, comm.size), input);
   });
+  auto& pairs = input.neighbour_pairs;
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   TriangleMesh mesh;
   par::run_collectively(comm, [&] {
     if (comm.is_root())
