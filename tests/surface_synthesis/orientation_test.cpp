@@ -10,6 +10,7 @@
 #include "geom/mesh_topology.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
+#include "pipelines/surface_synthesis/parent_faces.hpp"
 #include "support/gather_by_id.hpp"
 
 #include <gtest/gtest.h>
@@ -330,6 +331,21 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   EXPECT_EQ(distributed_report.energy, serial_report.energy);
   EXPECT_EQ(distributed_report.colour_classes, serial_report.colour_classes);
   EXPECT_NE(bytes_of(serial), bytes_of(start));
+}
+
+TEST(ParentFaces, RunsSearchedOnEveryRankGiveTheSerialFaces) {
+  const Level coarse(geom::icosphere(2));
+  const Level fine(geom::noisy(geom::icosphere(3), 0.02, 6));
+  const auto serial = find_parent_faces(fine.mesh.positions, fine.normals, coarse.mesh,
+                                        geom::AabbTree(coarse.mesh));
+  const par::Comm world = par::world();
+  const auto distributed = find_parent_faces(world, equal_runs(world, fine.topology.num_vertices()),
+                                             fine.mesh.positions, fine.normals, coarse.mesh);
+  ASSERT_EQ(distributed.size(), serial.size());
+  for (std::size_t v = 0; v < serial.size(); ++v) {
+    ASSERT_TRUE(serial[v].found()) << "vertex " << v;
+    EXPECT_EQ(std::memcmp(&distributed[v], &serial[v], sizeof(ParentFace)), 0) << "vertex " << v;
+  }
 }
 
 TEST(OrientationField, InheritedDirectionsReproduceASmoothParentField) {

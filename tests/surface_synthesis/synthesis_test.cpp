@@ -4,7 +4,6 @@
 // on a sphere, below a fifth with an exactly periodic lattice exemplar on a flat grid; with a
 // stripe exemplar, relaxed orientation beats random orientation, and s along the parallels lays
 // the stripes along them (the luminance varies along the meridians).
-#include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
@@ -47,8 +46,8 @@ struct Prepared {
     for (int k = n - 1; k >= 0; --k) {
       const auto K = std::size_t(k);
       if (k + 1 < n)
-        parents[K] = find_parent_faces(pyramid[K].mesh.positions, pyramid[K].normals,
-                                       pyramid[K + 1].mesh, geom::AabbTree(pyramid[K + 1].mesh));
+        parents[K] = find_parent_faces(comm, pyramid[K].rank_offsets, pyramid[K].mesh.positions,
+                                       pyramid[K].normals, pyramid[K + 1].mesh);
       const auto random = random_directions(pyramid[K].normals, 5, k);
       directions[K] = random;
       if (orientation == Orientation::parallels) {

@@ -1,6 +1,8 @@
 #include "pipelines/surface_synthesis/parent_faces.hpp"
 
+#include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
+#include "par/record_exchange.hpp"
 
 namespace texsim::pipelines::surface_synthesis {
 
@@ -23,6 +25,22 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
         coarse.positions[std::size_t(corners[2])], hit->point);
   }
   return parents;
+}
+
+std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
+                                          std::span<const std::int64_t> rank_offsets,
+                                          std::span<const geom::Vec3> points,
+                                          std::span<const geom::Vec3> normals,
+                                          const geom::TriangleMesh& coarse) {
+  TEXSIM_VERIFY(rank_offsets.size() == std::size_t(comm.size) + 1 &&
+                    rank_offsets.back() == std::int64_t(points.size()) &&
+                    normals.size() == points.size(),
+                "find_parent_faces: rank_offsets do not split the points");
+  const auto first = std::size_t(rank_offsets[std::size_t(comm.rank)]);
+  const auto count = std::size_t(rank_offsets[std::size_t(comm.rank) + 1]) - first;
+  const auto run = find_parent_faces(points.subspan(first, count), normals.subspan(first, count),
+                                     coarse, geom::AabbTree(coarse));
+  return par::allgather_records(comm, run);
 }
 
 } // namespace texsim::pipelines::surface_synthesis

@@ -4,8 +4,10 @@
 /// meshes". The coarser part of p's neighbourhood grows from that face, and a finer level's
 /// orientation starts from the directions at its corners.
 #include "geom/aabb_tree.hpp"
+#include "par/comm.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -19,5 +21,15 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
                                           std::span<const geom::Vec3> normals,
                                           const geom::TriangleMesh& coarse,
                                           const geom::AabbTree& coarse_tree);
+
+/// The same for every point, each rank searching only its run [rank_offsets[r],
+/// rank_offsets[r + 1]) of the points with its own tree of `coarse` (dropped on return); the runs'
+/// faces are all-gathered, so every rank gets the serial call's records, the same bytes.
+/// Collective.
+std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
+                                          std::span<const std::int64_t> rank_offsets,
+                                          std::span<const geom::Vec3> points,
+                                          std::span<const geom::Vec3> normals,
+                                          const geom::TriangleMesh& coarse);
 
 } // namespace texsim::pipelines::surface_synthesis

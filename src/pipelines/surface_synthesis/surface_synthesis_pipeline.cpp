@@ -5,7 +5,6 @@
 #include "core/peak_memory.hpp"
 #include "core/progress.hpp"
 #include "core/stop_signal.hpp"
-#include "geom/aabb_tree.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_source.hpp"
 #include "geom/point_expression.hpp"
@@ -135,11 +134,10 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     nlohmann::json relax_metrics = nlohmann::json::array();
     for (int k = levels - 1; k >= 0; --k) {
       const auto& level = pyramid[std::size_t(k)];
-      if (k + 1 < levels) { // the coarser level's tree lives only as long as this search
-        const auto& coarser_mesh = pyramid[std::size_t(k) + 1].mesh;
-        parents[std::size_t(k)] = find_parent_faces(level.mesh.positions, level.normals,
-                                                    coarser_mesh, geom::AabbTree(coarser_mesh));
-      }
+      if (k + 1 < levels) // each rank searches its own run
+        parents[std::size_t(k)] =
+            find_parent_faces(comm, level.rank_offsets, level.mesh.positions, level.normals,
+                              pyramid[std::size_t(k) + 1].mesh);
       auto& s = directions[std::size_t(k)];
       const auto random = random_directions(level.normals, run.seed, k);
       if (orientation.mode == OrientationMode::random) {
