@@ -413,7 +413,8 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return mesh;
 }
 
-/// Triangles [first, end) of the whole surface's T on `rank` of `ranks`: equal runs of ids.
+/// The first triangle id that `rank` of `ranks` cuts: rank r cuts the run [T r / p, T (r + 1) / p)
+/// of the surface's T triangles.
 std::int32_t share_begin(std::int64_t triangles, int rank, int ranks) {
   return std::int32_t(triangles * rank / ranks);
 }
