@@ -5,6 +5,7 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/random_surface_points.hpp"
+#include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -22,17 +23,9 @@ Vec3 corner(const std::array<double, 9>& corners, int c) {
   return {corners[3 * c], corners[3 * c + 1], corners[3 * c + 2]};
 }
 
-std::array<double, 9> corners_of(const TriangleMesh& mesh, std::size_t t) {
-  std::array<double, 9> corners{};
-  for (int c = 0; c < 3; ++c)
-    for (int axis = 0; axis < 3; ++axis)
-      corners[3 * c + axis] = mesh.positions[mesh.triangles[t][c]][axis];
-  return corners;
-}
-
-/// The first triangle id of rank r's area slots.
+/// The first triangle id of rank r's area slots (even runs of ids).
 std::int64_t slot_begin(std::int64_t triangles, int rank, int ranks) {
-  return triangles * rank / ranks;
+  return par::even_run_begin(triangles, rank, ranks);
 }
 
 /// What the rank holding the whole mesh knows of it: each rank's share and area slots, and the
@@ -92,6 +85,14 @@ void append_received(std::vector<Record>& kept, std::vector<Record>&& received) 
 }
 
 } // namespace
+
+std::array<double, 9> corners_of(const TriangleMesh& mesh, std::size_t t) {
+  std::array<double, 9> corners{};
+  for (int c = 0; c < 3; ++c)
+    for (int axis = 0; axis < 3; ++axis)
+      corners[3 * c + axis] = mesh.positions[mesh.triangles[t][c]][axis];
+  return corners;
+}
 
 std::int32_t LocalSurface::local_triangle(std::int64_t id) const {
   const auto it = std::lower_bound(triangle_ids.begin(), triangle_ids.end(), id);

@@ -22,6 +22,9 @@
 
 namespace texsim::geom {
 
+/// The xyz of triangle t's three corners, as TriangleRecord::corners holds them.
+std::array<double, 9> corners_of(const TriangleMesh& mesh, std::size_t t);
+
 /// One triangle as it travels between ranks.
 struct TriangleRecord {
   std::int64_t id = -1;                 ///< index in the whole mesh's triangles

@@ -1,10 +1,12 @@
 #include "geom/restricted_delaunay.hpp"
 
 #include "core/error.hpp"
+#include "geom/distributed_triangles.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/restricted_voronoi.hpp"
 #include "par/collective.hpp"
 #include "par/gather_to_root.hpp"
+#include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 
 #include <Eigen/Geometry>
@@ -413,12 +415,6 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return mesh;
 }
 
-/// The first triangle id that `rank` of `ranks` cuts: rank r cuts the run [T r / p, T (r + 1) / p)
-/// of the surface's T triangles.
-std::int32_t share_begin(std::int64_t triangles, int rank, int ranks) {
-  return std::int32_t(triangles * rank / ranks);
-}
-
 /// A rank's dual input on the wire: counts, then the pieces (borders counted, not indexed), the
 /// borders, the meetings and the neighbour pairs, as plain numbers.
 std::vector<std::byte> serialize(const DualInput& input) {
@@ -535,16 +531,9 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   if (comm.is_root()) {
     triangles = root_surface.num_triangles();
     for (int r = 0; r < comm.size; ++r)
-      for (auto t = share_begin(triangles, r, comm.size);
-           t < share_begin(triangles, r + 1, comm.size); ++t) {
-        Corners corners{};
-        for (std::size_t c = 0; c < 3; ++c)
-          for (int axis = 0; axis < 3; ++axis)
-            corners[3 * c + std::size_t(axis)] =
-                root_surface.positions[std::size_t(root_surface.triangles[std::size_t(t)][c])](
-                    axis);
-        outgoing[std::size_t(r)].push_back(corners);
-      }
+      for (auto t = par::even_run_begin(triangles, r, comm.size);
+           t < par::even_run_begin(triangles, r + 1, comm.size); ++t)
+        outgoing[std::size_t(r)].push_back(corners_of(root_surface, std::size_t(t)));
   }
   const std::vector<Corners> mine = par::exchange_records(comm, std::move(outgoing));
   TriangleMesh share;
@@ -561,7 +550,7 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
       comm, [&] { bytes = serialize(dual_input(share, seeds, seed_ids, chunk_triangles)); });
   DualInput input;
   par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
-    append(part, share_begin(triangles, rank, comm.size), input);
+    append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
   });
   auto& pairs = input.neighbour_pairs;
   std::sort(pairs.begin(), pairs.end());

@@ -7,6 +7,12 @@
 
 namespace texsim::par {
 
+/// The first id of rank `rank`'s run when `count` ids are split into `ranks` even runs:
+/// [count r / p, count (r + 1) / p).
+inline std::int64_t even_run_begin(std::int64_t count, int rank, int ranks) {
+  return count * rank / ranks;
+}
+
 /// The rank whose run holds `id` (0 <= id < rank_offsets.back()).
 inline int owner_of(std::span<const std::int64_t> rank_offsets, std::int64_t id) {
   return int(std::upper_bound(rank_offsets.begin(), rank_offsets.end(), id) -
