@@ -12,7 +12,6 @@
 //   OMP_NUM_THREADS=1 mpirun -n 2 build/release/bench/surface_synthesis_bench --repeats 3
 #include "bench_timing.hpp"
 #include "core/log.hpp"
-#include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
@@ -82,7 +81,8 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
     directions[K] = random;
     if (k + 1 < levels) {
       coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
-      directions[K] = inherited_directions(pyramid[K].normals, *coarser, 2, random);
+      directions[K] = inherited_directions(comm, pyramid[K].rank_offsets, pyramid[K].normals,
+                                           *coarser, 2, random);
     }
     relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                      coarser ? &*coarser : nullptr, 2, sweeps, directions[K]);
@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
   std::vector<std::vector<ParentFace>> parents(pyramid.size());
   for (std::size_t k = 0; k < pyramid.size(); ++k) {
     if (k + 1 < pyramid.size())
-      parents[k] = find_parent_faces(pyramid[k].mesh.positions, pyramid[k].normals,
-                                     pyramid[k + 1].mesh, geom::AabbTree(pyramid[k + 1].mesh));
+      parents[k] = find_parent_faces(comm, pyramid[k].rank_offsets, pyramid[k].mesh.positions,
+                                     pyramid[k].normals, pyramid[k + 1].mesh);
   }
 
   std::vector<double> relax_s;

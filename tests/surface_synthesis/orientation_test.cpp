@@ -44,6 +44,13 @@ std::vector<std::int64_t> equal_runs(const par::Comm& comm, std::int64_t count) 
   return offsets;
 }
 
+/// This rank's run of per-vertex `records` under equal_runs.
+std::span<const ParentFace> own_run(const par::Comm& comm, const std::vector<ParentFace>& records) {
+  const auto runs = equal_runs(comm, std::int64_t(records.size()));
+  return std::span(records).subspan(std::size_t(runs[comm.rank]),
+                                    std::size_t(runs[comm.rank + 1] - runs[comm.rank]));
+}
+
 /// Parent faces of `fine`'s vertices on `coarse`: the triangle of the closest point and its
 /// barycentric weights.
 std::vector<ParentFace> closest_parent_faces(const Level& fine, const Level& coarse) {
@@ -195,8 +202,8 @@ TEST(OrientationRelaxation, EnergyNeverRises) {
   const Level fine(geom::noisy(geom::icosphere(3), 0.02, 5));
   const auto parents = closest_parent_faces(fine, coarse);
   const auto coarse_directions = lat_long_directions(coarse);
-  const CoarserOrientation coarser{parents, coarse_directions, coarse.normals};
   const par::Comm world = par::world();
+  const CoarserOrientation coarser{own_run(world, parents), coarse_directions, coarse.normals};
   for (const int symmetry : {1, 2, 4})
     for (const CoarserOrientation* parent_level : {&coarser, (const CoarserOrientation*)nullptr}) {
       auto directions = random_directions(fine.normals, 21, 1);
@@ -287,7 +294,7 @@ TEST(OrientationRelaxation, RelaxedSphereIsSmoothAlmostEverywhere) {
       directions = inherited_directions(
           level->normals, {parents, coarse_directions, coarse_normals}, 2, directions);
     }
-    const CoarserOrientation coarser{parents, coarse_directions, coarse_normals};
+    const CoarserOrientation coarser{own_run(world, parents), coarse_directions, coarse_normals};
     relax_directions(world, equal_runs(world, level->topology.num_vertices()), level->mesh,
                      level->normals, &coarser, 2, 30, directions);
     coarse = std::move(level);
@@ -314,9 +321,10 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   const par::Comm world = par::world();
   const par::Comm self = test::self_comm();
   auto distributed = start;
+  const CoarserOrientation coarser_run{own_run(world, parents), coarse_directions, coarse.normals};
   const auto distributed_report =
       relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
-                       fine.normals, &coarser, 2, 10, distributed);
+                       fine.normals, &coarser_run, 2, 10, distributed);
   auto serial = start;
   const auto serial_report = relax_directions(self, equal_runs(self, fine.topology.num_vertices()),
                                               fine.mesh, fine.normals, &coarser, 2, 10, serial);
@@ -339,12 +347,15 @@ TEST(ParentFaces, RunsSearchedOnEveryRankGiveTheSerialFaces) {
   const auto serial = find_parent_faces(fine.mesh.positions, fine.normals, coarse.mesh,
                                         geom::AabbTree(coarse.mesh));
   const par::Comm world = par::world();
-  const auto distributed = find_parent_faces(world, equal_runs(world, fine.topology.num_vertices()),
-                                             fine.mesh.positions, fine.normals, coarse.mesh);
-  ASSERT_EQ(distributed.size(), serial.size());
-  for (std::size_t v = 0; v < serial.size(); ++v) {
-    ASSERT_TRUE(serial[v].found()) << "vertex " << v;
-    EXPECT_EQ(std::memcmp(&distributed[v], &serial[v], sizeof(ParentFace)), 0) << "vertex " << v;
+  const auto runs = equal_runs(world, fine.topology.num_vertices());
+  const auto distributed =
+      find_parent_faces(world, runs, fine.mesh.positions, fine.normals, coarse.mesh);
+  const auto first = std::size_t(runs[world.rank]);
+  ASSERT_EQ(distributed.size(), std::size_t(runs[world.rank + 1]) - first);
+  for (std::size_t i = 0; i < distributed.size(); ++i) {
+    ASSERT_TRUE(serial[first + i].found()) << "vertex " << first + i;
+    EXPECT_EQ(std::memcmp(&distributed[i], &serial[first + i], sizeof(ParentFace)), 0)
+        << "vertex " << first + i;
   }
 }
 
@@ -368,6 +379,22 @@ TEST(OrientationField, InheritedDirectionsReproduceASmoothParentField) {
     }
     EXPECT_LT(largest, 1.0) << "n = " << symmetry;
   }
+}
+
+TEST(OrientationField, RunsInheritedOnEveryRankGiveTheSerialDirections) {
+  const Level coarse(geom::noisy(geom::icosphere(2), 0.05, 7));
+  const Level fine(geom::noisy(geom::icosphere(3), 0.05, 8));
+  const auto parents = closest_parent_faces(fine, coarse);
+  const auto coarse_directions = random_directions(coarse.normals, 3, 1);
+  const auto fallback = random_directions(fine.normals, 3, 0);
+  const auto serial =
+      inherited_directions(fine.normals, {parents, coarse_directions, coarse.normals}, 2, fallback);
+  const par::Comm world = par::world();
+  const auto distributed = inherited_directions(
+      world, equal_runs(world, fine.topology.num_vertices()), fine.normals,
+      {own_run(world, parents), coarse_directions, coarse.normals}, 2, fallback);
+  EXPECT_EQ(bytes_of(distributed), bytes_of(serial));
+  EXPECT_NE(bytes_of(serial), bytes_of(fallback));
 }
 
 } // namespace

@@ -61,7 +61,8 @@ struct Prepared {
       std::optional<CoarserOrientation> coarser;
       if (k + 1 < n) {
         coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
-        directions[K] = inherited_directions(pyramid[K].normals, *coarser, kSymmetry, random);
+        directions[K] = inherited_directions(comm, pyramid[K].rank_offsets, pyramid[K].normals,
+                                             *coarser, kSymmetry, random);
       }
       relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                        coarser ? &*coarser : nullptr, kSymmetry, 30, directions[K]);
@@ -200,9 +201,14 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const auto& level = prepared.pyramid[0];
   const auto n = level.mesh.num_vertices();
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
+  // The whole level's parent faces, for the whole level's stencils below.
+  const auto parents =
+      find_parent_faces(level.mesh.positions, level.normals, prepared.pyramid[1].mesh,
+                        geom::AabbTree(prepared.pyramid[1].mesh));
   const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
     return build_level_stencils(level, prepared.directions[0], &prepared.pyramid[1],
-                                prepared.parents[0], layout, first, owned);
+                                std::span(parents).subspan(std::size_t(first), std::size_t(owned)),
+                                layout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto order = synthesis_order(

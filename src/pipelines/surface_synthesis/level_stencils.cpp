@@ -53,8 +53,8 @@ struct StencilPatches {
     std::optional<LevelPart> coarser_part;
     if (stencils.coarser_count > 0) { // around the vertices and their parent faces' corners
       for (const std::int64_t v : vertices)
-        if (parents[std::size_t(v)].found())
-          for (const std::int32_t u : parents[std::size_t(v)].vertices)
+        if (const ParentFace& parent = parents[std::size_t(v - stencils.first)]; parent.found())
+          for (const std::int32_t u : parent.vertices)
             centres.push_back(coarser->mesh.positions[std::size_t(u)]);
       coarser_part.emplace(coarser->mesh, centres, growth * patch_reach(coarser_radius));
     }
@@ -76,9 +76,9 @@ struct StencilPatches {
         bool inside = sample_on_level(
             part, patch, current_positions,
             {stencils.current.data() + local * stencils.current_count, stencils.current_count});
-        if (stencils.coarser_count > 0 && parents[v].found()) {
+        if (stencils.coarser_count > 0 && parents[local].found()) {
           // The parent face's corners are centres of the coarser part, so it holds the face.
-          const std::int32_t face = coarser_part->local_triangle(parents[v].triangle);
+          const std::int32_t face = coarser_part->local_triangle(parents[local].triangle);
           flatten_patch(coarser_part->mesh(), coarser_part->topology(),
                         std::span<const std::int32_t>(&face, 1), frame, coarser_radius, patch,
                         scratch);
@@ -113,6 +113,8 @@ LevelStencils build_level_stencils(const RetiledLevel& level,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
                                    std::int64_t owned) {
+  TEXSIM_VERIFY(coarser == nullptr || std::int64_t(parents.size()) == owned,
+                parents.size() << " parent faces for " << owned << " owned vertices");
   LevelStencils stencils;
   stencils.first = first;
   stencils.owned = owned;

@@ -37,7 +37,8 @@ struct LevelStencils {
 
 /// Stencils of vertices [first, first + owned) of `level`: the current part flattened from the
 /// triangles around each vertex in its frame (normal, `directions`, t = n x s) at the level's
-/// spacing d; the coarser part flattened on `coarser` from the vertex's parent face (`parents`)
+/// spacing d; the coarser part flattened on `coarser` from the vertex's parent face (`parents`,
+/// one per owned vertex: vertex first + i at i)
 /// at 2d, skipped (uncovered) where no parent face was found. `coarser` may be null when the
 /// layout has no coarser part. The patches are flattened on LevelParts of both levels around the
 /// owned vertices (and their parent faces), built here and dropped on return, so no rank builds

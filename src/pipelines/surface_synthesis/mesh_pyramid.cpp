@@ -8,6 +8,7 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/mesh_validation.hpp"
 #include "geom/restricted_delaunay.hpp"
+#include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
 #include "par/record_exchange.hpp"
 
@@ -32,26 +33,14 @@ std::uint64_t level_seed(std::uint64_t seed, int level) {
 /// Every cell's centre, indexed by id, on every rank.
 std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
                                               const geom::SurfaceCells& cells) {
-  std::vector<double> owned;
-  owned.reserve(3 * std::size_t(cells.owned_count()));
+  std::vector<geom::Vec3> positions(std::size_t(cells.global_count()));
   for (std::int32_t i = 0; i < cells.owned_count(); ++i) {
     TEXSIM_VERIFY(cells.ids()[std::size_t(i)] == cells.owned_begin() + i,
                   "mesh pyramid: owned cell ids are not a contiguous run");
-    const geom::Vec3& p = cells.points()[std::size_t(i)].position;
-    owned.insert(owned.end(), {p.x(), p.y(), p.z()});
+    positions[std::size_t(cells.owned_begin() + i)] = cells.points()[std::size_t(i)].position;
   }
-  const auto offsets = cells.rank_offsets();
-  std::vector<int> counts(std::size_t(comm.size)), displacements(std::size_t(comm.size));
-  for (std::size_t r = 0; r < std::size_t(comm.size); ++r) {
-    counts[r] = int(3 * (offsets[r + 1] - offsets[r]));
-    displacements[r] = int(3 * offsets[r]);
-  }
-  std::vector<double> all(3 * std::size_t(cells.global_count()));
-  MPI_Allgatherv(owned.data(), int(owned.size()), MPI_DOUBLE, all.data(), counts.data(),
-                 displacements.data(), MPI_DOUBLE, comm.raw);
-  std::vector<geom::Vec3> positions(std::size_t(cells.global_count()));
-  for (std::size_t id = 0; id < positions.size(); ++id)
-    positions[id] = {all[3 * id], all[3 * id + 1], all[3 * id + 2]};
+  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
+  par::allgather_runs(comm, cells.rank_offsets(), positions.data(), 3, MPI_DOUBLE);
   return positions;
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
+#include "par/allgather_runs.hpp"
 
 #include <cmath>
 #include <complex>
@@ -140,6 +141,27 @@ std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals
       directions[v] = std::cos(theta) * e1 + std::sin(theta) * e2;
     }
   }
+  return directions;
+}
+
+std::vector<geom::Vec3> inherited_directions(const par::Comm& comm,
+                                             std::span<const std::int64_t> rank_offsets,
+                                             std::span<const geom::Vec3> normals,
+                                             const CoarserOrientation& coarser, int symmetry,
+                                             std::span<const geom::Vec3> random_fallback) {
+  verify_sizes(random_fallback.size(), normals.size(), "fallback directions");
+  TEXSIM_VERIFY(rank_offsets.size() == std::size_t(comm.size) + 1 &&
+                    rank_offsets.back() == std::int64_t(normals.size()),
+                "inherited_directions: rank offsets do not split the " << normals.size()
+                                                                       << " vertices");
+  const auto first = std::size_t(rank_offsets[std::size_t(comm.rank)]);
+  const auto run = std::size_t(rank_offsets[std::size_t(comm.rank) + 1]) - first;
+  const auto mine = inherited_directions(normals.subspan(first, run), coarser, symmetry,
+                                         random_fallback.subspan(first, run));
+  std::vector<geom::Vec3> directions(normals.size());
+  std::copy(mine.begin(), mine.end(), directions.begin() + std::ptrdiff_t(first));
+  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
+  par::allgather_runs(comm, rank_offsets, directions.data(), 3, MPI_DOUBLE);
   return directions;
 }
 

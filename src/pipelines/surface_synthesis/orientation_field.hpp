@@ -3,8 +3,10 @@
 /// mesh level (t = n x s completes the frame). Random, user-field and inherited directions, and the
 /// tangent-plane geometry they and the relaxation share: a fixed basis per normal, the minimal
 /// rotation carrying one tangent plane onto another, signed angles. Angles are in radians
-/// throughout. Serial; every function is a pure function of its arguments.
+/// throughout. Every function is a pure function of its arguments; all but the last, which
+/// all-gathers the ranks' runs, are serial.
 #include "geom/triangle_mesh.hpp"
+#include "par/comm.hpp"
 
 #include <Eigen/Geometry> // cross products of tangent vectors
 
@@ -30,7 +32,9 @@ struct ParentFace {
 
 /// The coarser level as the relaxation sees it (fixed values). Not owned.
 struct CoarserOrientation {
-  std::span<const ParentFace> parents;    ///< per vertex of this level
+  /// per vertex of this level that the call works on: `normals` in inherited_directions(), the
+  /// rank's run in relax_directions()
+  std::span<const ParentFace> parents;
   std::span<const geom::Vec3> directions; ///< per vertex of the coarser level, unit tangents
   std::span<const geom::Vec3> normals;    ///< per vertex of the coarser level, unit
 };
@@ -87,6 +91,16 @@ std::vector<geom::Vec3> projected_directions(std::span<const geom::Vec3> normals
 /// `symmetry` n >= 1; sizes: normals and random_fallback per vertex of this level, `coarser` as
 /// documented there.
 std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals,
+                                             const CoarserOrientation& coarser, int symmetry,
+                                             std::span<const geom::Vec3> random_fallback);
+
+/// The same for a level split into runs [rank_offsets[r], rank_offsets[r + 1]): each rank takes
+/// its own run (`coarser.parents` holds the run's parent faces; normals and random_fallback are
+/// per vertex of the level) and the runs are all-gathered, so every rank gets every vertex's
+/// direction, the serial call's bits. Collective.
+std::vector<geom::Vec3> inherited_directions(const par::Comm& comm,
+                                             std::span<const std::int64_t> rank_offsets,
+                                             std::span<const geom::Vec3> normals,
                                              const CoarserOrientation& coarser, int symmetry,
                                              std::span<const geom::Vec3> random_fallback);
 

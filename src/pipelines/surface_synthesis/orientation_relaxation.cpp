@@ -1,8 +1,11 @@
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 
 #include "core/error.hpp"
+#include "par/allgather_runs.hpp"
 #include "par/greedy_colouring.hpp"
+#include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
+#include "par/reproducible_sum.hpp"
 #include "pipelines/surface_synthesis/level_part.hpp"
 
 #include <mpi.h>
@@ -15,7 +18,8 @@ namespace texsim::pipelines::surface_synthesis {
 namespace {
 
 /// Classes of the greedy colouring of the 1-ring graph in vertex id order (par::greedy_colouring
-/// on each rank's run, whose rings are `rings`), each class with every rank's members in id order.
+/// on each rank's run, whose rings are `rings`): each class's members in this rank's run, in id
+/// order. Every rank has the same number of classes (some may be empty on a rank).
 std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
                                                       std::span<const std::int64_t> rank_offsets,
                                                       const geom::CsrAdjacency& rings) {
@@ -29,11 +33,37 @@ std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
   std::vector<std::vector<std::int32_t>> owned(std::size_t(colouring.classes));
   for (std::int64_t v = first; v < end; ++v)
     owned[std::size_t(colouring.owned_class[std::size_t(v - first)])].push_back(std::int32_t(v));
-  std::vector<std::vector<std::int32_t>> classes;
-  for (const auto& members : owned)
-    classes.push_back(par::allgather_records(comm, members));
-  return classes;
+  return owned;
 }
+
+/// For each vertex of the rank's run, the other ranks that read its direction: the owners of its
+/// 1-ring (a ring is symmetric, so they are the ranks whose runs have it in a ring). CSR over the
+/// run.
+struct DirectionReaders {
+  std::vector<std::int64_t> offsets;
+  std::vector<std::int32_t> ranks;
+
+  DirectionReaders(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
+                   const geom::CsrAdjacency& rings) {
+    offsets.push_back(0);
+    std::vector<std::int32_t> row;
+    for (std::int32_t local = 0; local < rings.rows(); ++local) {
+      row.clear();
+      for (const std::int32_t q : rings.row(local))
+        if (const int owner = par::owner_of(rank_offsets, q); owner != comm.rank)
+          row.push_back(owner);
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      ranks.insert(ranks.end(), row.begin(), row.end());
+      offsets.push_back(std::int64_t(ranks.size()));
+    }
+  }
+};
+
+struct DirectionUpdate {
+  std::int64_t vertex;
+  double s[3];
+};
 
 /// What one vertex's update reads: the level's geometry and directions and the fixed coarser level.
 class VertexEnergy {
@@ -56,8 +86,8 @@ public:
       if (const auto phi = relative_angle(s_p, n_p, directions_[q], normals_[q]))
         angles.push_back(*phi);
     const std::size_t ring_count = angles.size();
-    if (coarser_ != nullptr && coarser_->parents[p].found())
-      for (const std::int32_t u : coarser_->parents[p].vertices)
+    if (coarser_ != nullptr && coarser_->parents[std::size_t(p - first_)].found())
+      for (const std::int32_t u : coarser_->parents[std::size_t(p - first_)].vertices)
         if (const auto phi =
                 relative_angle(s_p, n_p, coarser_->directions[u], coarser_->normals[u]))
           angles.push_back(*phi);
@@ -95,62 +125,48 @@ private:
   const std::vector<geom::Vec3>& directions_;
 };
 
-/// Total energy: each rank sums the shares of its run, the shares are all-gathered and added in
-/// vertex id order, so the value does not depend on the rank count.
+/// Total energy: the shares of every rank's run summed by par::reproducible_sum, so the value
+/// does not depend on the rank count.
 double total_energy(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
                     const VertexEnergy& energy) {
   const std::int64_t begin = rank_offsets[comm.rank];
   const std::int64_t end = rank_offsets[comm.rank + 1];
-  std::vector<double> shares(rank_offsets.back());
+  std::vector<double> shares(std::size_t(end - begin));
 #pragma omp parallel
   {
     std::vector<double> buffer;
 #pragma omp for schedule(static)
     for (std::int64_t p = begin; p < end; ++p)
-      shares[p] = energy.share(std::int32_t(p), buffer);
+      shares[std::size_t(p - begin)] = energy.share(std::int32_t(p), buffer);
   }
-  std::vector<int> counts(comm.size), displacements(comm.size);
-  for (int r = 0; r < comm.size; ++r) {
-    counts[r] = int(rank_offsets[r + 1] - rank_offsets[r]);
-    displacements[r] = int(rank_offsets[r]);
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, shares.data(), counts.data(), displacements.data(),
-                 MPI_DOUBLE, comm.raw);
-  double total = 0.0;
-  for (const double share : shares)
-    total += share;
-  return total;
+  return par::reproducible_sum(comm, shares);
 }
 
-/// Updates the members of one colour class in this rank's run, then all-gathers the class's new
-/// directions (runs are ascending, so the gathered members come in the class's id order).
-void relax_class(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                 std::span<const std::int32_t> members, const VertexEnergy& energy,
+/// Updates the members of one colour class in this rank's run (`members`, ascending), then sends
+/// each new direction to the ranks whose runs have the vertex in a 1-ring.
+void relax_class(const par::Comm& comm, std::int64_t first, std::span<const std::int32_t> members,
+                 const DirectionReaders& readers, const VertexEnergy& energy,
                  std::vector<geom::Vec3>& directions) {
-  std::vector<int> counts(comm.size), displacements(comm.size);
-  std::vector<std::ptrdiff_t> first(comm.size + 1);
-  for (int r = 0; r <= comm.size; ++r)
-    first[r] = std::lower_bound(members.begin(), members.end(), rank_offsets[r]) - members.begin();
-  for (int r = 0; r < comm.size; ++r) {
-    counts[r] = int(3 * (first[r + 1] - first[r]));
-    displacements[r] = int(3 * first[r]);
-  }
-  std::vector<double> updated(3 * members.size());
-  const std::ptrdiff_t begin = first[comm.rank];
-  const std::ptrdiff_t end = first[comm.rank + 1];
+  std::vector<geom::Vec3> updated(members.size());
+  const auto count = std::ptrdiff_t(members.size());
 #pragma omp parallel
   {
     std::vector<double> buffer;
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t i = begin; i < end; ++i) {
-      const geom::Vec3 s = energy.relaxed(members[i], buffer);
-      std::copy(s.data(), s.data() + 3, updated.begin() + 3 * i);
-    }
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+      updated[std::size_t(i)] = energy.relaxed(members[std::size_t(i)], buffer);
   }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, updated.data(), counts.data(), displacements.data(),
-                 MPI_DOUBLE, comm.raw);
-  for (std::size_t i = 0; i < members.size(); ++i)
-    directions[members[i]] = geom::Vec3(updated[3 * i], updated[3 * i + 1], updated[3 * i + 2]);
+  std::vector<std::vector<DirectionUpdate>> outgoing(std::size_t(comm.size));
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const std::int32_t p = members[i];
+    const geom::Vec3& s = updated[i];
+    directions[std::size_t(p)] = s;
+    const auto local = std::size_t(p - first);
+    for (auto k = readers.offsets[local]; k < readers.offsets[local + 1]; ++k)
+      outgoing[std::size_t(readers.ranks[std::size_t(k)])].push_back({p, {s.x(), s.y(), s.z()}});
+  }
+  for (const auto& update : par::exchange_records(comm, outgoing))
+    directions[std::size_t(update.vertex)] = geom::Vec3(update.s[0], update.s[1], update.s[2]);
 }
 
 void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
@@ -169,16 +185,18 @@ void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_off
       "rank offsets must be " << comm.size + 1 << " non-decreasing values from 0 to " << count);
   if (coarser == nullptr || coarser->parents.empty())
     return;
-  TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == count,
-                coarser->parents.size() << " parent faces for " << count << " vertices");
+  const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
+  const std::int64_t run = rank_offsets[std::size_t(comm.rank) + 1] - first;
+  TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == run,
+                coarser->parents.size() << " parent faces for a run of " << run << " vertices");
   const auto coarse_count = std::int64_t(coarser->directions.size());
   TEXSIM_VERIFY(std::int64_t(coarser->normals.size()) == coarse_count,
                 coarser->normals.size()
                     << " coarser normals for " << coarse_count << " coarser directions");
-  for (std::int64_t p = 0; p < count; ++p)
-    for (const std::int32_t u : coarser->parents[p].vertices)
-      TEXSIM_VERIFY(!coarser->parents[p].found() || (u >= 0 && u < coarse_count),
-                    "parent vertex " << u << " of vertex " << p << " is not one of the "
+  for (std::int64_t i = 0; i < run; ++i)
+    for (const std::int32_t u : coarser->parents[std::size_t(i)].vertices)
+      TEXSIM_VERIFY(!coarser->parents[std::size_t(i)].found() || (u >= 0 && u < coarse_count),
+                    "parent vertex " << u << " of vertex " << first + i << " is not one of the "
                                      << coarse_count << " vertices of the coarser level");
 }
 
@@ -234,15 +252,19 @@ RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::in
   const geom::CsrAdjacency rings =
       run_rings(mesh, first, rank_offsets[std::size_t(comm.rank) + 1] - first);
   const auto classes = colour_classes(comm, rank_offsets, rings);
+  const DirectionReaders readers(comm, rank_offsets, rings);
   const VertexEnergy energy(rings, first, normals, coarser, symmetry, directions);
   RelaxationReport report;
   report.colour_classes = std::int32_t(classes.size());
   report.energy.push_back(total_energy(comm, rank_offsets, energy));
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     for (const auto& members : classes)
-      relax_class(comm, rank_offsets, members, energy, directions);
+      relax_class(comm, first, members, readers, energy, directions);
     report.energy.push_back(total_energy(comm, rank_offsets, energy));
   }
+  // The sweeps kept only the 1-ring halos current; every rank gets every run's result.
+  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
+  par::allgather_runs(comm, rank_offsets, directions.data(), 3, MPI_DOUBLE);
   return report;
 }
 

@@ -2,7 +2,6 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
-#include "par/record_exchange.hpp"
 
 namespace texsim::pipelines::surface_synthesis {
 
@@ -38,9 +37,8 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
                 "find_parent_faces: rank_offsets do not split the points");
   const auto first = std::size_t(rank_offsets[std::size_t(comm.rank)]);
   const auto count = std::size_t(rank_offsets[std::size_t(comm.rank) + 1]) - first;
-  const auto run = find_parent_faces(points.subspan(first, count), normals.subspan(first, count),
-                                     coarse, geom::AabbTree(coarse));
-  return par::allgather_records(comm, run);
+  return find_parent_faces(points.subspan(first, count), normals.subspan(first, count), coarse,
+                           geom::AabbTree(coarse));
 }
 
 } // namespace texsim::pipelines::surface_synthesis

@@ -1,6 +1,7 @@
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
 
 #include "core/rng.hpp"
+#include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 #include "pipelines/surface_synthesis/synthesis_order.hpp"
 
@@ -16,20 +17,9 @@ constexpr std::uint32_t kRandomStartStream = 0x5302;
 
 /// Every rank gets every vertex's colour of a finished level (geometry is replicated for now).
 void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours& colours) {
-  std::vector<int> counts(std::size_t(comm.size)), offsets(std::size_t(comm.size));
-  for (int r = 0; r < comm.size; ++r) {
-    offsets[std::size_t(r)] = int(level.rank_offsets[std::size_t(r)]);
-    counts[std::size_t(r)] =
-        int(level.rank_offsets[std::size_t(r) + 1] - level.rank_offsets[std::size_t(r)]);
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.pixels.data(), counts.data(),
-                 offsets.data(), MPI_INT32_T, comm.raw);
-  for (int r = 0; r < comm.size; ++r) {
-    counts[std::size_t(r)] *= 3;
-    offsets[std::size_t(r)] *= 3;
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, colours.colours.data(), counts.data(),
-                 offsets.data(), MPI_FLOAT, comm.raw);
+  par::allgather_runs(comm, level.rank_offsets, colours.pixels.data(), 1, MPI_INT32_T);
+  static_assert(sizeof(img::Rgb) == 3 * sizeof(float));
+  par::allgather_runs(comm, level.rank_offsets, colours.colours.data(), 3, MPI_FLOAT);
 }
 
 /// How many distinct colours the level's vertices hold: each rank marks the exemplar pixels its

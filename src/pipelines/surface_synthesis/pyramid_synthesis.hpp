@@ -20,7 +20,7 @@ namespace texsim::pipelines::surface_synthesis {
 struct PyramidSynthesisInput {
   const std::vector<RetiledLevel>& pyramid;
   const std::vector<std::vector<geom::Vec3>>& directions;
-  /// Level k's parent faces on level k + 1 (empty for the coarsest).
+  /// Level k's parent faces on level k + 1 of this rank's run of level k (empty for the coarsest).
   const std::vector<std::vector<ParentFace>>& parents;
   const std::vector<img::RgbImage>& exemplar; ///< G_a, as many levels as the pyramid
   std::vector<NeighbourhoodShape> shapes;     ///< per level, 0 = finest

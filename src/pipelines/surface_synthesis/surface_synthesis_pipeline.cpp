@@ -29,6 +29,9 @@
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
+// Directions and field vectors travel in MPI messages as three doubles each.
+static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
+
 /// The orientation field of mode `field` at a level's vertices: the three expressions of x, y, z
 /// and the mesh arrays (sampled at the closest point of the input file's surface).
 std::vector<geom::Vec3> field_vectors(const OrientationSettings& settings,
@@ -134,7 +137,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     nlohmann::json relax_metrics = nlohmann::json::array();
     for (int k = levels - 1; k >= 0; --k) {
       const auto& level = pyramid[std::size_t(k)];
-      if (k + 1 < levels) // each rank searches its own run
+      if (k + 1 < levels) // each rank searches and keeps its own run
         parents[std::size_t(k)] =
             find_parent_faces(comm, level.rank_offsets, level.mesh.positions, level.normals,
                               pyramid[std::size_t(k) + 1].mesh);
@@ -149,7 +152,6 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
           if (comm.is_root())
             field = field_vectors(orientation, settings_.mesh, level);
         });
-        static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
         MPI_Bcast(field.data(), int(3 * field.size()), MPI_DOUBLE, 0, comm.raw);
         std::int64_t degenerate = 0;
         s = projected_directions(level.normals, field, &degenerate);
@@ -163,7 +165,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         if (k + 1 < levels) {
           coarser = CoarserOrientation{parents[std::size_t(k)], directions[std::size_t(k) + 1],
                                        pyramid[std::size_t(k) + 1].normals};
-          s = inherited_directions(level.normals, *coarser, orientation.symmetry, random);
+          s = inherited_directions(comm, level.rank_offsets, level.normals, *coarser,
+                                   orientation.symmetry, random);
         } else {
           s = random;
         }
