@@ -67,7 +67,8 @@ BenchSettings parse(int argc, char** argv) {
   return s;
 }
 
-/// The orientation of every level, coarse to fine, as the pipeline's `relax` mode computes it.
+/// The orientation of every level (this rank's run), coarse to fine, as the pipeline's `relax`
+/// mode computes it.
 std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
                                              const std::vector<RetiledLevel>& pyramid,
                                              const std::vector<std::vector<ParentFace>>& parents,
@@ -76,13 +77,18 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
   std::vector<std::vector<geom::Vec3>> directions(pyramid.size());
   for (int k = levels - 1; k >= 0; --k) {
     const auto K = std::size_t(k);
-    const auto random = random_directions(pyramid[K].normals, 1, k);
+    const std::int64_t first = pyramid[K].rank_offsets[std::size_t(comm.rank)];
+    const auto normals =
+        std::span(pyramid[K].normals)
+            .subspan(std::size_t(first),
+                     std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first));
+    const auto random = random_directions(normals, 1, k, first);
     std::optional<CoarserOrientation> coarser;
     directions[K] = random;
     if (k + 1 < levels) {
-      coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
-      directions[K] = inherited_directions(comm, pyramid[K].rank_offsets, pyramid[K].normals,
-                                           *coarser, 2, random);
+      coarser = coarser_orientation(comm, parents[K], pyramid[K + 1].rank_offsets,
+                                    directions[K + 1], pyramid[K + 1].normals);
+      directions[K] = inherited_directions(normals, *coarser, 2, random);
     }
     relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                      coarser ? &*coarser : nullptr, 2, sweeps, directions[K]);

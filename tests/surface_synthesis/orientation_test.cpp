@@ -8,6 +8,7 @@
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_topology.hpp"
+#include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
@@ -20,6 +21,7 @@
 #include <cstring>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -45,10 +47,20 @@ std::vector<std::int64_t> equal_runs(const par::Comm& comm, std::int64_t count) 
 }
 
 /// This rank's run of per-vertex `records` under equal_runs.
-std::span<const ParentFace> own_run(const par::Comm& comm, const std::vector<ParentFace>& records) {
+template <typename Record>
+std::vector<Record> own_run(const par::Comm& comm, const std::vector<Record>& records) {
   const auto runs = equal_runs(comm, std::int64_t(records.size()));
-  return std::span(records).subspan(std::size_t(runs[comm.rank]),
-                                    std::size_t(runs[comm.rank + 1] - runs[comm.rank]));
+  return {records.begin() + runs[comm.rank], records.begin() + runs[comm.rank + 1]};
+}
+
+/// Every rank's run of directions (under equal_runs of `count`) on every rank.
+std::vector<geom::Vec3> whole_level(const par::Comm& comm, const std::vector<geom::Vec3>& run,
+                                    std::int64_t count) {
+  std::vector<geom::Vec3> all(static_cast<std::size_t>(count));
+  const auto runs = equal_runs(comm, count);
+  std::copy(run.begin(), run.end(), all.begin() + runs[comm.rank]);
+  par::allgather_runs(comm, runs, all.data(), 3, MPI_DOUBLE);
+  return all;
 }
 
 /// Parent faces of `fine`'s vertices on `coarse`: the triangle of the closest point and its
@@ -174,7 +186,7 @@ TEST(OrientationRelaxation, FirstUpdateMatchesAFineScan) {
   const Level fine(geom::noisy(geom::icosphere(2), 0.05, 4));
   const auto parents = closest_parent_faces(fine, coarse);
   const auto coarse_directions = random_directions(coarse.normals, 9, 1);
-  const CoarserOrientation coarser{parents, coarse_directions, coarse.normals};
+  const auto coarser = coarser_orientation(parents, coarse_directions, coarse.normals);
   for (const int symmetry : {1, 2, 4}) {
     for (const CoarserOrientation* parent_level : {&coarser, (const CoarserOrientation*)nullptr}) {
       const auto start = random_directions(fine.normals, 9, 2);
@@ -203,10 +215,11 @@ TEST(OrientationRelaxation, EnergyNeverRises) {
   const auto parents = closest_parent_faces(fine, coarse);
   const auto coarse_directions = lat_long_directions(coarse);
   const par::Comm world = par::world();
-  const CoarserOrientation coarser{own_run(world, parents), coarse_directions, coarse.normals};
+  const auto run_parents = own_run(world, parents);
+  const auto coarser = coarser_orientation(run_parents, coarse_directions, coarse.normals);
   for (const int symmetry : {1, 2, 4})
     for (const CoarserOrientation* parent_level : {&coarser, (const CoarserOrientation*)nullptr}) {
-      auto directions = random_directions(fine.normals, 21, 1);
+      auto directions = own_run(world, random_directions(fine.normals, 21, 1));
       const RelaxationReport report =
           relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
                            fine.normals, parent_level, symmetry, 30, directions);
@@ -243,13 +256,15 @@ TEST(OrientationRelaxation, QuarterTurnsAreFixedForFourWayOnly) {
                                                             0.5 * std::numbers::pi));
   const par::Comm world = par::world();
   const auto runs = equal_runs(world, grid.topology.num_vertices());
-  auto four_way = start;
+  auto four_way = own_run(world, start);
   const auto fixed =
       relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 4, 5, four_way);
   EXPECT_LT(fixed.energy.front(), 1e-20);
-  auto two_way = start;
+  four_way = whole_level(world, four_way, grid.topology.num_vertices());
+  auto two_way = own_run(world, start);
   const auto moved = relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 2, 5, two_way);
   EXPECT_LT(moved.energy.back(), 0.5 * moved.energy.front());
+  two_way = whole_level(world, two_way, grid.topology.num_vertices());
   double largest_four = 0.0;
   double largest_two = 0.0;
   for (std::size_t v = 0; v < start.size(); ++v) {
@@ -280,25 +295,24 @@ TEST(OrientationRelaxation, RelaxedSphereIsSmoothAlmostEverywhere) {
   // 10,242 vertices (the finest gives 96% smooth edges).
   const par::Comm world = par::world();
   std::unique_ptr<Level> coarse;
-  std::vector<geom::Vec3> coarse_directions; // relaxed, on `coarse`
+  std::vector<geom::Vec3> coarse_directions; // relaxed, on the whole of `coarse`
   for (int refinement = 2; refinement <= 5; ++refinement) {
     auto level = std::make_unique<Level>(geom::icosphere(refinement));
-    auto directions = random_directions(level->normals, 2, 5 - refinement);
+    const std::int64_t count = level->topology.num_vertices();
+    auto directions = own_run(world, random_directions(level->normals, 2, 5 - refinement));
     std::vector<ParentFace> parents;
-    std::span<const geom::Vec3> coarse_normals;
+    std::optional<CoarserOrientation> coarser;
     if (coarse == nullptr) {
-      EXPECT_LT(smooth_edge_fraction(*level, directions, 2, 5.0), 0.1);
+      EXPECT_LT(smooth_edge_fraction(*level, whole_level(world, directions, count), 2, 5.0), 0.1);
     } else {
-      parents = closest_parent_faces(*level, *coarse);
-      coarse_normals = coarse->normals;
-      directions = inherited_directions(
-          level->normals, {parents, coarse_directions, coarse_normals}, 2, directions);
+      parents = own_run(world, closest_parent_faces(*level, *coarse));
+      coarser = coarser_orientation(parents, coarse_directions, coarse->normals);
+      directions = inherited_directions(own_run(world, level->normals), *coarser, 2, directions);
     }
-    const CoarserOrientation coarser{own_run(world, parents), coarse_directions, coarse_normals};
-    relax_directions(world, equal_runs(world, level->topology.num_vertices()), level->mesh,
-                     level->normals, &coarser, 2, 30, directions);
+    relax_directions(world, equal_runs(world, count), level->mesh, level->normals,
+                     coarser ? &*coarser : nullptr, 2, 30, directions);
     coarse = std::move(level);
-    coarse_directions = std::move(directions);
+    coarse_directions = whole_level(world, directions, count);
   }
   EXPECT_GE(smooth_edge_fraction(*coarse, coarse_directions, 2, 5.0), 0.9);
 }
@@ -315,24 +329,26 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   const Level fine(geom::noisy(geom::icosphere(3), 0.02, 6));
   const auto parents = closest_parent_faces(fine, coarse);
   const auto coarse_directions = random_directions(coarse.normals, 4, 2);
-  const CoarserOrientation coarser{parents, coarse_directions, coarse.normals};
+  const auto coarser = coarser_orientation(parents, coarse_directions, coarse.normals);
   const auto start =
       inherited_directions(fine.normals, coarser, 2, random_directions(fine.normals, 4, 3));
   const par::Comm world = par::world();
   const par::Comm self = test::self_comm();
-  auto distributed = start;
-  const CoarserOrientation coarser_run{own_run(world, parents), coarse_directions, coarse.normals};
-  const auto distributed_report =
-      relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
-                       fine.normals, &coarser_run, 2, 10, distributed);
+  const std::int64_t count = fine.topology.num_vertices();
+  auto distributed = own_run(world, start);
+  const auto run_parents = own_run(world, parents);
+  const auto coarser_run = coarser_orientation(run_parents, coarse_directions, coarse.normals);
+  const auto distributed_report = relax_directions(world, equal_runs(world, count), fine.mesh,
+                                                   fine.normals, &coarser_run, 2, 10, distributed);
+  distributed = whole_level(world, distributed, count);
   auto serial = start;
-  const auto serial_report = relax_directions(self, equal_runs(self, fine.topology.num_vertices()),
-                                              fine.mesh, fine.normals, &coarser, 2, 10, serial);
+  const auto serial_report = relax_directions(self, equal_runs(self, count), fine.mesh,
+                                              fine.normals, &coarser, 2, 10, serial);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(3);
   auto threaded = start;
-  relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.mesh, fine.normals,
-                   &coarser, 2, 10, threaded);
+  relax_directions(self, equal_runs(self, count), fine.mesh, fine.normals, &coarser, 2, 10,
+                   threaded);
   omp_set_num_threads(threads);
   EXPECT_EQ(bytes_of(threaded), bytes_of(serial));
   EXPECT_EQ(bytes_of(distributed), bytes_of(serial));
@@ -368,7 +384,8 @@ TEST(OrientationField, InheritedDirectionsReproduceASmoothParentField) {
   const auto fallback = random_directions(fine.normals, 1, 4);
   for (const int symmetry : {1, 2, 4}) {
     const auto inherited = inherited_directions(
-        fine.normals, {parents, coarse_directions, coarse.normals}, symmetry, fallback);
+        fine.normals, coarser_orientation(parents, coarse_directions, coarse.normals), symmetry,
+        fallback);
     double largest = 0.0;
     for (std::size_t v = 0; v < inherited.size(); ++v) {
       EXPECT_NEAR(inherited[v].norm(), 1.0, 1e-12);
@@ -381,20 +398,25 @@ TEST(OrientationField, InheritedDirectionsReproduceASmoothParentField) {
   }
 }
 
-TEST(OrientationField, RunsInheritedOnEveryRankGiveTheSerialDirections) {
+TEST(OrientationField, CornersFetchedFromTheirOwnersAreTheSerialOnes) {
   const Level coarse(geom::noisy(geom::icosphere(2), 0.05, 7));
   const Level fine(geom::noisy(geom::icosphere(3), 0.05, 8));
-  const auto parents = closest_parent_faces(fine, coarse);
+  const auto parents = own_run(par::world(), closest_parent_faces(fine, coarse));
   const auto coarse_directions = random_directions(coarse.normals, 3, 1);
-  const auto fallback = random_directions(fine.normals, 3, 0);
-  const auto serial =
-      inherited_directions(fine.normals, {parents, coarse_directions, coarse.normals}, 2, fallback);
+  const auto serial = coarser_orientation(parents, coarse_directions, coarse.normals);
   const par::Comm world = par::world();
-  const auto distributed = inherited_directions(
-      world, equal_runs(world, fine.topology.num_vertices()), fine.normals,
-      {own_run(world, parents), coarse_directions, coarse.normals}, 2, fallback);
-  EXPECT_EQ(bytes_of(distributed), bytes_of(serial));
-  EXPECT_NE(bytes_of(serial), bytes_of(fallback));
+  const auto fetched =
+      coarser_orientation(world, parents, equal_runs(world, coarse.topology.num_vertices()),
+                          own_run(world, coarse_directions), coarse.normals);
+  ASSERT_EQ(fetched.directions.size(), parents.size());
+  ASSERT_EQ(fetched.normals.size(), parents.size());
+  for (std::size_t v = 0; v < parents.size(); ++v) {
+    ASSERT_TRUE(parents[v].found());
+    EXPECT_EQ(std::memcmp(&fetched.directions[v], &serial.directions[v], 3 * sizeof(geom::Vec3)),
+              0);
+    EXPECT_EQ(std::memcmp(&fetched.normals[v], &serial.normals[v], 3 * sizeof(geom::Vec3)), 0);
+    EXPECT_EQ(serial.directions[v][1], coarse_directions[std::size_t(parents[v].vertices[1])]);
+  }
 }
 
 } // namespace

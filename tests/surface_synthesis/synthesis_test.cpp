@@ -5,6 +5,7 @@
 // stripe exemplar, relaxed orientation beats random orientation, and s along the parallels lays
 // the stripes along them (the luminance varies along the meridians).
 #include "geom/generators.hpp"
+#include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
@@ -45,24 +46,28 @@ struct Prepared {
     directions.resize(std::size_t(n));
     for (int k = n - 1; k >= 0; --k) {
       const auto K = std::size_t(k);
+      const std::int64_t first = pyramid[K].rank_offsets[std::size_t(comm.rank)];
+      const auto count = std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first);
+      const auto normals = std::span(pyramid[K].normals).subspan(std::size_t(first), count);
       if (k + 1 < n)
         parents[K] = find_parent_faces(comm, pyramid[K].rank_offsets, pyramid[K].mesh.positions,
                                        pyramid[K].normals, pyramid[K + 1].mesh);
-      const auto random = random_directions(pyramid[K].normals, 5, k);
+      const auto random = random_directions(normals, 5, k, first);
       directions[K] = random;
       if (orientation == Orientation::parallels) {
         std::vector<geom::Vec3> field;
-        for (const auto& p : pyramid[K].mesh.positions)
+        for (const auto& p :
+             std::span(pyramid[K].mesh.positions).subspan(std::size_t(first), count))
           field.emplace_back(-p.y(), p.x(), 0.0);
-        directions[K] = projected_directions(pyramid[K].normals, field, nullptr);
+        directions[K] = projected_directions(normals, field, nullptr);
       }
       if (orientation != Orientation::relaxed)
         continue;
       std::optional<CoarserOrientation> coarser;
       if (k + 1 < n) {
-        coarser = CoarserOrientation{parents[K], directions[K + 1], pyramid[K + 1].normals};
-        directions[K] = inherited_directions(comm, pyramid[K].rank_offsets, pyramid[K].normals,
-                                             *coarser, kSymmetry, random);
+        coarser = coarser_orientation(comm, parents[K], pyramid[K + 1].rank_offsets,
+                                      directions[K + 1], pyramid[K + 1].normals);
+        directions[K] = inherited_directions(normals, *coarser, kSymmetry, random);
       }
       relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
                        coarser ? &*coarser : nullptr, kSymmetry, 30, directions[K]);
@@ -201,14 +206,19 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const auto& level = prepared.pyramid[0];
   const auto n = level.mesh.num_vertices();
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
-  // The whole level's parent faces, for the whole level's stencils below.
+  // The whole level's parent faces and directions, for the whole level's stencils below.
   const auto parents =
       find_parent_faces(level.mesh.positions, level.normals, prepared.pyramid[1].mesh,
                         geom::AabbTree(prepared.pyramid[1].mesh));
+  std::vector<geom::Vec3> directions(static_cast<std::size_t>(n));
+  std::copy(prepared.directions[0].begin(), prepared.directions[0].end(),
+            directions.begin() + level.rank_offsets[std::size_t(comm.rank)]);
+  par::allgather_runs(comm, level.rank_offsets, directions.data(), 3, MPI_DOUBLE);
   const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
-    return build_level_stencils(level, prepared.directions[0], &prepared.pyramid[1],
-                                std::span(parents).subspan(std::size_t(first), std::size_t(owned)),
-                                layout, first, owned);
+    return build_level_stencils(
+        level, std::span(directions).subspan(std::size_t(first), std::size_t(owned)),
+        &prepared.pyramid[1], std::span(parents).subspan(std::size_t(first), std::size_t(owned)),
+        layout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto order = synthesis_order(

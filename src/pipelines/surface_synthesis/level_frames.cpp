@@ -2,9 +2,11 @@
 
 #include "core/log.hpp"
 #include "io/parallel_surface_writer.hpp"
+#include "par/fetch_from_owners.hpp"
 #include "par/id_runs.hpp"
 
 #include <algorithm>
+#include <array>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -49,18 +51,23 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
       for (const auto v : t)
         triangles.push_back(local_of[std::size_t(v)]);
 
+  using Triple = std::array<double, 3>;
+  std::vector<Triple> run_directions;
+  for (const auto& d : directions)
+    run_directions.push_back({d.x(), d.y(), d.z()});
+  const std::vector<std::int64_t> ids(used.begin(), used.end());
+  const auto used_directions = par::fetch_from_owners(comm_, retiled.rank_offsets, std::span(ids),
+                                                      std::span<const Triple>(run_directions));
   std::vector<double> xyz, colour, s;
-  std::vector<std::int64_t> ids;
   std::vector<std::int32_t> owner;
-  for (const auto v : used) {
-    const auto& p = retiled.mesh.positions[std::size_t(v)];
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    const auto v = std::size_t(used[i]);
+    const auto& p = retiled.mesh.positions[v];
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-    const auto& c = colours.colours[std::size_t(v)];
+    const auto& c = colours.colours[v];
     colour.insert(colour.end(), {c.r, c.g, c.b});
-    const auto& d = directions[std::size_t(v)];
-    s.insert(s.end(), {d.x(), d.y(), d.z()});
-    ids.push_back(v);
-    owner.push_back(par::owner_of(retiled.rank_offsets, v));
+    s.insert(s.end(), used_directions[i].begin(), used_directions[i].end());
+    owner.push_back(par::owner_of(retiled.rank_offsets, std::int64_t(v)));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};
   piece.point_fields = {{"color", 3, std::span<const double>(colour)},

@@ -68,7 +68,7 @@ struct StencilPatches {
         const auto v = std::size_t(vertices[i]);
         const auto local = std::size_t(vertices[i] - stencils.first);
         const geom::Vec3& n = level.normals[v];
-        const geom::Vec3& s = directions[v];
+        const geom::Vec3& s = directions[local];
         const TangentFrame frame{level.mesh.positions[v], s, n.cross(s), n};
         const auto around =
             part.topology().vertex_triangles().row(part.local_vertex(std::int32_t(v)));
@@ -115,6 +115,8 @@ LevelStencils build_level_stencils(const RetiledLevel& level,
                                    std::int64_t owned) {
   TEXSIM_VERIFY(coarser == nullptr || std::int64_t(parents.size()) == owned,
                 parents.size() << " parent faces for " << owned << " owned vertices");
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == owned,
+                directions.size() << " directions for " << owned << " owned vertices");
   LevelStencils stencils;
   stencils.first = first;
   stencils.owned = owned;

@@ -2,7 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
-#include "par/allgather_runs.hpp"
+#include "par/fetch_from_owners.hpp"
 
 #include <cmath>
 #include <complex>
@@ -63,7 +63,7 @@ geom::Vec3 direction_at_angle(const geom::Vec3& n, double angle) {
 }
 
 std::vector<geom::Vec3> random_directions(std::span<const geom::Vec3> normals, std::uint64_t seed,
-                                          int level) {
+                                          int level, std::int64_t first) {
   TEXSIM_VERIFY(level >= 0, "mesh level " << level << " is negative");
   const CounterRng rng(seed, kOrientationStream);
   std::vector<geom::Vec3> directions(normals.size());
@@ -71,7 +71,7 @@ std::vector<geom::Vec3> random_directions(std::span<const geom::Vec3> normals, s
 #pragma omp parallel for schedule(static)
   for (std::int64_t v = 0; v < count; ++v) {
     const double angle =
-        2.0 * std::numbers::pi * rng.uniform(std::uint64_t(v), std::uint32_t(level));
+        2.0 * std::numbers::pi * rng.uniform(std::uint64_t(first + v), std::uint32_t(level));
     directions[v] = direction_at_angle(normals[v], angle);
   }
   return directions;
@@ -104,19 +104,72 @@ std::vector<geom::Vec3> projected_directions(std::span<const geom::Vec3> normals
   return directions;
 }
 
+CoarserOrientation coarser_orientation(std::span<const ParentFace> parents,
+                                       std::span<const geom::Vec3> coarse_directions,
+                                       std::span<const geom::Vec3> coarse_normals) {
+  verify_sizes(coarse_normals.size(), coarse_directions.size(), "coarser normals");
+  CoarserOrientation coarser{parents, {}, {}};
+  coarser.directions.resize(parents.size());
+  coarser.normals.resize(parents.size());
+  const auto coarse_count = std::int64_t(coarse_directions.size());
+  for (std::size_t v = 0; v < parents.size(); ++v) {
+    if (!parents[v].found())
+      continue;
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::int32_t u = parents[v].vertices[std::size_t(corner)];
+      TEXSIM_VERIFY(u >= 0 && u < coarse_count,
+                    "parent vertex " << u << " of vertex " << v << " is not a vertex of the "
+                                     << coarse_count << " of the coarser level");
+      coarser.directions[v][std::size_t(corner)] = coarse_directions[std::size_t(u)];
+      coarser.normals[v][std::size_t(corner)] = coarse_normals[std::size_t(u)];
+    }
+  }
+  return coarser;
+}
+
+CoarserOrientation coarser_orientation(const par::Comm& comm, std::span<const ParentFace> parents,
+                                       std::span<const std::int64_t> coarse_offsets,
+                                       std::span<const geom::Vec3> coarse_directions,
+                                       std::span<const geom::Vec3> coarse_normals) {
+  TEXSIM_VERIFY(coarse_offsets.size() == std::size_t(comm.size) + 1 &&
+                    coarse_offsets.back() == std::int64_t(coarse_normals.size()),
+                "coarser_orientation: rank offsets do not split the " << coarse_normals.size()
+                                                                      << " coarser vertices");
+  using Triple = std::array<double, 3>;
+  std::vector<Triple> mine;
+  mine.reserve(coarse_directions.size());
+  for (const auto& s : coarse_directions)
+    mine.push_back({s.x(), s.y(), s.z()});
+  std::vector<std::int64_t> corners;
+  for (const auto& parent : parents)
+    if (parent.found())
+      corners.insert(corners.end(), parent.vertices.begin(), parent.vertices.end());
+  const auto fetched = par::fetch_from_owners(comm, coarse_offsets, std::span(corners),
+                                              std::span<const Triple>(mine));
+  CoarserOrientation coarser{parents, {}, {}};
+  coarser.directions.resize(parents.size());
+  coarser.normals.resize(parents.size());
+  std::size_t next = 0;
+  for (std::size_t v = 0; v < parents.size(); ++v) {
+    if (!parents[v].found())
+      continue;
+    for (std::size_t corner = 0; corner < 3; ++corner, ++next) {
+      const Triple& s = fetched[next];
+      coarser.directions[v][corner] = geom::Vec3(s[0], s[1], s[2]);
+      coarser.normals[v][corner] = coarse_normals[std::size_t(parents[v].vertices[corner])];
+    }
+  }
+  return coarser;
+}
+
 std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals,
                                              const CoarserOrientation& coarser, int symmetry,
                                              std::span<const geom::Vec3> random_fallback) {
   TEXSIM_VERIFY(symmetry >= 1, "orientation symmetry " << symmetry << " is below 1");
   verify_sizes(coarser.parents.size(), normals.size(), "parent faces");
+  verify_sizes(coarser.directions.size(), normals.size(), "parent corner directions");
+  verify_sizes(coarser.normals.size(), normals.size(), "parent corner normals");
   verify_sizes(random_fallback.size(), normals.size(), "fallback directions");
-  verify_sizes(coarser.normals.size(), coarser.directions.size(), "coarser normals");
-  const auto coarse_count = static_cast<std::int32_t>(coarser.directions.size());
-  for (std::size_t v = 0; v < normals.size(); ++v)
-    for (const std::int32_t u : coarser.parents[v].vertices)
-      TEXSIM_VERIFY(!coarser.parents[v].found() || (u >= 0 && u < coarse_count),
-                    "parent vertex " << u << " of vertex " << v << " is not a vertex of the "
-                                     << coarse_count << " of the coarser level");
   std::vector<geom::Vec3> directions(normals.size());
   const auto count = static_cast<std::int64_t>(normals.size());
 #pragma omp parallel for schedule(static)
@@ -128,9 +181,8 @@ std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals
     const geom::Vec3& n = normals[v];
     const auto [e1, e2] = tangent_basis(n);
     std::complex<double> sum = 0.0;
-    for (int corner = 0; corner < 3; ++corner) {
-      const std::int32_t u = parent.vertices[corner];
-      const auto carried = transport(coarser.directions[u], coarser.normals[u], n);
+    for (std::size_t corner = 0; corner < 3; ++corner) {
+      const auto carried = transport(coarser.directions[v][corner], coarser.normals[v][corner], n);
       if (!carried)
         continue;
       const double theta = std::atan2(carried->dot(e2), carried->dot(e1));
@@ -141,27 +193,6 @@ std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals
       directions[v] = std::cos(theta) * e1 + std::sin(theta) * e2;
     }
   }
-  return directions;
-}
-
-std::vector<geom::Vec3> inherited_directions(const par::Comm& comm,
-                                             std::span<const std::int64_t> rank_offsets,
-                                             std::span<const geom::Vec3> normals,
-                                             const CoarserOrientation& coarser, int symmetry,
-                                             std::span<const geom::Vec3> random_fallback) {
-  verify_sizes(random_fallback.size(), normals.size(), "fallback directions");
-  TEXSIM_VERIFY(rank_offsets.size() == std::size_t(comm.size) + 1 &&
-                    rank_offsets.back() == std::int64_t(normals.size()),
-                "inherited_directions: rank offsets do not split the " << normals.size()
-                                                                       << " vertices");
-  const auto first = std::size_t(rank_offsets[std::size_t(comm.rank)]);
-  const auto run = std::size_t(rank_offsets[std::size_t(comm.rank) + 1]) - first;
-  const auto mine = inherited_directions(normals.subspan(first, run), coarser, symmetry,
-                                         random_fallback.subspan(first, run));
-  std::vector<geom::Vec3> directions(normals.size());
-  std::copy(mine.begin(), mine.end(), directions.begin() + std::ptrdiff_t(first));
-  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
-  par::allgather_runs(comm, rank_offsets, directions.data(), 3, MPI_DOUBLE);
   return directions;
 }
 

@@ -3,8 +3,8 @@
 /// mesh level (t = n x s completes the frame). Random, user-field and inherited directions, and the
 /// tangent-plane geometry they and the relaxation share: a fixed basis per normal, the minimal
 /// rotation carrying one tangent plane onto another, signed angles. Angles are in radians
-/// throughout. Every function is a pure function of its arguments; all but the last, which
-/// all-gathers the ranks' runs, are serial.
+/// throughout. Every function is a pure function of its arguments, and all but the collective
+/// coarser_orientation() are serial.
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
@@ -30,14 +30,28 @@ struct ParentFace {
   bool found() const { return vertices[0] >= 0; }
 };
 
-/// The coarser level as the relaxation sees it (fixed values). Not owned.
+/// The coarser level as a finer level's orientation reads it (fixed values), per vertex worked on:
+/// its parent face and the directions and normals at the face's three corners (left unset where
+/// no face was found).
 struct CoarserOrientation {
-  /// per vertex of this level that the call works on: `normals` in inherited_directions(), the
-  /// rank's run in relax_directions()
   std::span<const ParentFace> parents;
-  std::span<const geom::Vec3> directions; ///< per vertex of the coarser level, unit tangents
-  std::span<const geom::Vec3> normals;    ///< per vertex of the coarser level, unit
+  std::vector<std::array<geom::Vec3, 3>> directions; ///< unit tangents
+  std::vector<std::array<geom::Vec3, 3>> normals;    ///< unit
 };
+
+/// The corners read from the coarser level's whole arrays (per coarser vertex). Serial.
+CoarserOrientation coarser_orientation(std::span<const ParentFace> parents,
+                                       std::span<const geom::Vec3> coarse_directions,
+                                       std::span<const geom::Vec3> coarse_normals);
+
+/// The same with the coarser directions kept per run: `coarse_directions` is this rank's run
+/// [coarse_offsets[r], coarse_offsets[r + 1]) of the coarser level, and the corners' directions
+/// are fetched from their owners; `coarse_normals` covers the whole coarser level. The same values
+/// as the serial call. Collective.
+CoarserOrientation coarser_orientation(const par::Comm& comm, std::span<const ParentFace> parents,
+                                       std::span<const std::int64_t> coarse_offsets,
+                                       std::span<const geom::Vec3> coarse_directions,
+                                       std::span<const geom::Vec3> coarse_normals);
 
 /// A fixed orthonormal basis (e1, e2) of the plane normal to the unit vector n, with e2 = n x e1:
 /// e1 is the normalised cross product of n with the coordinate axis least aligned with it (ties to
@@ -69,12 +83,12 @@ double symmetric_residue(double angle, int symmetry);
 /// The unit tangent cos(angle) e1 + sin(angle) e2 in tangent_basis(n).
 geom::Vec3 direction_at_angle(const geom::Vec3& n, double angle);
 
-/// Random unit tangent directions: vertex v's angle is 2 pi U with U from
-/// CounterRng(seed, kOrientationStream).uniform(v, level), measured in tangent_basis(normals[v]).
-/// Rank- and thread-count independent by construction. Normals here and below are unit vectors,
-/// one per vertex of the level.
+/// Random unit tangent directions of the vertices first, first + 1, ... (one per normal): vertex
+/// v's angle is 2 pi U with U from CounterRng(seed, kOrientationStream).uniform(v, level), measured
+/// in tangent_basis(normals[v - first]). Rank- and thread-count independent by construction.
+/// Normals here and below are unit vectors, one per vertex worked on.
 std::vector<geom::Vec3> random_directions(std::span<const geom::Vec3> normals, std::uint64_t seed,
-                                          int level);
+                                          int level, std::int64_t first = 0);
 
 /// Field vectors projected on each tangent plane and normalised. A vector (nearly) parallel to the
 /// normal (projected length <= 1e-9 times its length, or zero) falls back to e1 of tangent_basis();
@@ -88,19 +102,8 @@ std::vector<geom::Vec3> projected_directions(std::span<const geom::Vec3> normals
 /// its plane by transport()) as the unit complex numbers e^{i n theta}, weighted by the barycentric
 /// weights, and takes theta = arg(sum) / n in tangent_basis(). Vertices without a parent face, and
 /// those whose weighted sum (nearly) cancels (|sum| <= 1e-9), take random_fallback[v].
-/// `symmetry` n >= 1; sizes: normals and random_fallback per vertex of this level, `coarser` as
-/// documented there.
+/// `symmetry` n >= 1; normals, random_fallback and `coarser` hold one entry per vertex worked on.
 std::vector<geom::Vec3> inherited_directions(std::span<const geom::Vec3> normals,
-                                             const CoarserOrientation& coarser, int symmetry,
-                                             std::span<const geom::Vec3> random_fallback);
-
-/// The same for a level split into runs [rank_offsets[r], rank_offsets[r + 1]): each rank takes
-/// its own run (`coarser.parents` holds the run's parent faces; normals and random_fallback are
-/// per vertex of the level) and the runs are all-gathered, so every rank gets every vertex's
-/// direction, the serial call's bits. Collective.
-std::vector<geom::Vec3> inherited_directions(const par::Comm& comm,
-                                             std::span<const std::int64_t> rank_offsets,
-                                             std::span<const geom::Vec3> normals,
                                              const CoarserOrientation& coarser, int symmetry,
                                              std::span<const geom::Vec3> random_fallback);
 

@@ -1,7 +1,6 @@
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 
 #include "core/error.hpp"
-#include "par/allgather_runs.hpp"
 #include "par/greedy_colouring.hpp"
 #include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
@@ -13,13 +12,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
 /// Classes of the greedy colouring of the 1-ring graph in vertex id order (par::greedy_colouring
 /// on each rank's run, whose rings are `rings`): each class's members in this rank's run, in id
-/// order. Every rank has the same number of classes (some may be empty on a rank).
+/// order, as offsets in the run. Every rank has the same number of classes (some may be empty on a
+/// rank).
 std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
                                                       std::span<const std::int64_t> rank_offsets,
                                                       const geom::CsrAdjacency& rings) {
@@ -32,31 +33,58 @@ std::vector<std::vector<std::int32_t>> colour_classes(const par::Comm& comm,
                                                [](std::int64_t) { return std::uint64_t(0); });
   std::vector<std::vector<std::int32_t>> owned(std::size_t(colouring.classes));
   for (std::int64_t v = first; v < end; ++v)
-    owned[std::size_t(colouring.owned_class[std::size_t(v - first)])].push_back(std::int32_t(v));
+    owned[std::size_t(colouring.owned_class[std::size_t(v - first)])].push_back(
+        std::int32_t(v - first));
   return owned;
 }
 
-/// For each vertex of the rank's run, the other ranks that read its direction: the owners of its
-/// 1-ring (a ring is symmetric, so they are the ranks whose runs have it in a ring). CSR over the
-/// run.
-struct DirectionReaders {
-  std::vector<std::int64_t> offsets;
-  std::vector<std::int32_t> ranks;
+/// The rank's run and the other ranks' vertices in its 1-rings (the halo), numbered locally: the
+/// run's vertex first + i is i, the halo follows in id order. Each run vertex also lists the other
+/// ranks that read its direction: the owners of its 1-ring (a ring is symmetric, so they are the
+/// ranks whose runs have it in a ring).
+struct RingHalo {
+  std::int64_t first = 0;
+  std::int32_t run = 0;
+  std::vector<std::int64_t> halo; ///< ascending global ids
+  geom::CsrAdjacency rings;       ///< per run vertex, local ids
+  std::vector<std::int64_t> reader_offsets;
+  std::vector<std::int32_t> readers;
 
-  DirectionReaders(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                   const geom::CsrAdjacency& rings) {
-    offsets.push_back(0);
+  RingHalo(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
+           const geom::CsrAdjacency& global_rings)
+      : first(rank_offsets[std::size_t(comm.rank)]), run(global_rings.rows()) {
+    for (const std::int32_t q : global_rings.indices)
+      if (q < first || q >= first + run)
+        halo.push_back(q);
+    std::sort(halo.begin(), halo.end());
+    halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
+    rings.offsets = global_rings.offsets;
+    for (const std::int32_t q : global_rings.indices)
+      rings.indices.push_back(local(q));
+    reader_offsets.push_back(0);
     std::vector<std::int32_t> row;
-    for (std::int32_t local = 0; local < rings.rows(); ++local) {
+    for (std::int32_t i = 0; i < run; ++i) {
       row.clear();
-      for (const std::int32_t q : rings.row(local))
+      for (const std::int32_t q : global_rings.row(i))
         if (const int owner = par::owner_of(rank_offsets, q); owner != comm.rank)
           row.push_back(owner);
       std::sort(row.begin(), row.end());
       row.erase(std::unique(row.begin(), row.end()), row.end());
-      ranks.insert(ranks.end(), row.begin(), row.end());
-      offsets.push_back(std::int64_t(ranks.size()));
+      readers.insert(readers.end(), row.begin(), row.end());
+      reader_offsets.push_back(std::int64_t(readers.size()));
     }
+  }
+
+  /// The local id of a run or halo vertex.
+  std::int32_t local(std::int64_t v) const {
+    if (v >= first && v < first + run)
+      return std::int32_t(v - first);
+    return run + std::int32_t(std::lower_bound(halo.begin(), halo.end(), v) - halo.begin());
+  }
+
+  /// The global id of a local one.
+  std::int64_t global(std::int32_t local) const {
+    return local < run ? first + local : halo[std::size_t(local - run)];
   }
 };
 
@@ -65,31 +93,51 @@ struct DirectionUpdate {
   double s[3];
 };
 
-/// What one vertex's update reads: the level's geometry and directions and the fixed coarser level.
+/// Sends the directions of the run's vertices `locals` to the ranks that read them and stores the
+/// directions other ranks sent in the halo of `directions` (run, then halo). Collective.
+void send_to_readers(const par::Comm& comm, const RingHalo& halo,
+                     std::span<const std::int32_t> locals, std::vector<geom::Vec3>& directions) {
+  std::vector<std::vector<DirectionUpdate>> outgoing(std::size_t(comm.size));
+  for (const std::int32_t i : locals) {
+    const geom::Vec3& s = directions[std::size_t(i)];
+    for (auto k = halo.reader_offsets[std::size_t(i)]; k < halo.reader_offsets[std::size_t(i) + 1];
+         ++k)
+      outgoing[std::size_t(halo.readers[std::size_t(k)])].push_back(
+          {halo.first + i, {s.x(), s.y(), s.z()}});
+  }
+  for (const auto& update : par::exchange_records(comm, std::move(outgoing)))
+    directions[std::size_t(halo.local(update.vertex))] =
+        geom::Vec3(update.s[0], update.s[1], update.s[2]);
+}
+
+/// What one vertex's update reads: its 1-ring's directions and normals (run and halo, local ids)
+/// and its parent face's corners on the fixed coarser level.
 class VertexEnergy {
 public:
-  /// `rings`: the 1-rings of the rank's run, which starts at vertex `first`.
-  VertexEnergy(const geom::CsrAdjacency& rings, std::int64_t first,
-               std::span<const geom::Vec3> normals, const CoarserOrientation* coarser, int symmetry,
+  VertexEnergy(const RingHalo& halo, std::span<const geom::Vec3> normals,
+               const CoarserOrientation* coarser, int symmetry,
                const std::vector<geom::Vec3>& directions)
-      : rings_(rings), first_(first), normals_(normals),
-        coarser_(coarser != nullptr && !coarser->parents.empty() ? coarser : nullptr),
-        symmetry_(symmetry), directions_(directions) {}
+      : halo_(halo), coarser_(coarser != nullptr && !coarser->parents.empty() ? coarser : nullptr),
+        symmetry_(symmetry), directions_(directions) {
+    for (std::int32_t i = 0; i < halo.run + std::int32_t(halo.halo.size()); ++i)
+      normals_.push_back(normals[std::size_t(halo.global(i))]);
+  }
 
-  /// phi_qp of p's 1-ring into `angles`, then those of its parent-face vertices; returns the
-  /// number of 1-ring angles.
+  /// phi_qp of run vertex p's 1-ring into `angles`, then those of its parent-face vertices;
+  /// returns the number of 1-ring angles.
   std::size_t angles(std::int32_t p, std::vector<double>& angles) const {
     angles.clear();
-    const geom::Vec3& s_p = directions_[p];
-    const geom::Vec3& n_p = normals_[p];
-    for (const std::int32_t q : rings_.row(std::int32_t(p - first_)))
-      if (const auto phi = relative_angle(s_p, n_p, directions_[q], normals_[q]))
+    const geom::Vec3& s_p = directions_[std::size_t(p)];
+    const geom::Vec3& n_p = normals_[std::size_t(p)];
+    for (const std::int32_t q : halo_.rings.row(p))
+      if (const auto phi =
+              relative_angle(s_p, n_p, directions_[std::size_t(q)], normals_[std::size_t(q)]))
         angles.push_back(*phi);
     const std::size_t ring_count = angles.size();
-    if (coarser_ != nullptr && coarser_->parents[std::size_t(p - first_)].found())
-      for (const std::int32_t u : coarser_->parents[std::size_t(p - first_)].vertices)
-        if (const auto phi =
-                relative_angle(s_p, n_p, coarser_->directions[u], coarser_->normals[u]))
+    if (coarser_ != nullptr && coarser_->parents[std::size_t(p)].found())
+      for (std::size_t corner = 0; corner < 3; ++corner)
+        if (const auto phi = relative_angle(s_p, n_p, coarser_->directions[std::size_t(p)][corner],
+                                            coarser_->normals[std::size_t(p)][corner]))
           angles.push_back(*phi);
     return ring_count;
   }
@@ -107,46 +155,41 @@ public:
   /// E_p strictly.
   geom::Vec3 relaxed(std::int32_t p, std::vector<double>& buffer) const {
     angles(p, buffer);
-    const geom::Vec3& s_p = directions_[p];
+    const geom::Vec3& s_p = directions_[std::size_t(p)];
     const double theta = symmetric_residue(minimising_rotation(buffer, symmetry_), symmetry_);
     if (!(rotation_energy(buffer, symmetry_, theta) < rotation_energy(buffer, symmetry_, 0.0)))
       return s_p;
-    const geom::Vec3& n_p = normals_[p];
+    const geom::Vec3& n_p = normals_[std::size_t(p)];
     const geom::Vec3 rotated = std::cos(theta) * s_p + std::sin(theta) * n_p.cross(s_p);
     return (rotated - rotated.dot(n_p) * n_p).normalized();
   }
 
 private:
-  const geom::CsrAdjacency& rings_;
-  std::int64_t first_;
-  std::span<const geom::Vec3> normals_;
+  const RingHalo& halo_;
+  std::vector<geom::Vec3> normals_; ///< run, then halo
   const CoarserOrientation* coarser_;
   int symmetry_;
-  const std::vector<geom::Vec3>& directions_;
+  const std::vector<geom::Vec3>& directions_; ///< run, then halo
 };
 
-/// Total energy: the shares of every rank's run summed by par::reproducible_sum, so the value
+/// Total energy: the shares of the run's vertices summed by par::reproducible_sum, so the value
 /// does not depend on the rank count.
-double total_energy(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                    const VertexEnergy& energy) {
-  const std::int64_t begin = rank_offsets[comm.rank];
-  const std::int64_t end = rank_offsets[comm.rank + 1];
-  std::vector<double> shares(std::size_t(end - begin));
+double total_energy(const par::Comm& comm, std::int32_t run, const VertexEnergy& energy) {
+  std::vector<double> shares(std::size_t(run), 0.0);
 #pragma omp parallel
   {
     std::vector<double> buffer;
 #pragma omp for schedule(static)
-    for (std::int64_t p = begin; p < end; ++p)
-      shares[std::size_t(p - begin)] = energy.share(std::int32_t(p), buffer);
+    for (std::int32_t p = 0; p < run; ++p)
+      shares[std::size_t(p)] = energy.share(p, buffer);
   }
   return par::reproducible_sum(comm, shares);
 }
 
-/// Updates the members of one colour class in this rank's run (`members`, ascending), then sends
-/// each new direction to the ranks whose runs have the vertex in a 1-ring.
-void relax_class(const par::Comm& comm, std::int64_t first, std::span<const std::int32_t> members,
-                 const DirectionReaders& readers, const VertexEnergy& energy,
-                 std::vector<geom::Vec3>& directions) {
+/// Updates the run's members of one colour class (local ids), then sends their new directions to
+/// the ranks that read them.
+void relax_class(const par::Comm& comm, const RingHalo& halo, std::span<const std::int32_t> members,
+                 const VertexEnergy& energy, std::vector<geom::Vec3>& directions) {
   std::vector<geom::Vec3> updated(members.size());
   const auto count = std::ptrdiff_t(members.size());
 #pragma omp parallel
@@ -156,17 +199,9 @@ void relax_class(const par::Comm& comm, std::int64_t first, std::span<const std:
     for (std::ptrdiff_t i = 0; i < count; ++i)
       updated[std::size_t(i)] = energy.relaxed(members[std::size_t(i)], buffer);
   }
-  std::vector<std::vector<DirectionUpdate>> outgoing(std::size_t(comm.size));
-  for (std::size_t i = 0; i < members.size(); ++i) {
-    const std::int32_t p = members[i];
-    const geom::Vec3& s = updated[i];
-    directions[std::size_t(p)] = s;
-    const auto local = std::size_t(p - first);
-    for (auto k = readers.offsets[local]; k < readers.offsets[local + 1]; ++k)
-      outgoing[std::size_t(readers.ranks[std::size_t(k)])].push_back({p, {s.x(), s.y(), s.z()}});
-  }
-  for (const auto& update : par::exchange_records(comm, outgoing))
-    directions[std::size_t(update.vertex)] = geom::Vec3(update.s[0], update.s[1], update.s[2]);
+  for (std::size_t i = 0; i < members.size(); ++i)
+    directions[std::size_t(members[i])] = updated[i];
+  send_to_readers(comm, halo, members, directions);
 }
 
 void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
@@ -176,28 +211,25 @@ void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_off
   const std::int64_t count = mesh.num_vertices();
   TEXSIM_VERIFY(symmetry >= 1, "orientation symmetry " << symmetry << " is below 1");
   TEXSIM_VERIFY(sweeps >= 0, "relaxation sweeps " << sweeps << " is negative");
-  TEXSIM_VERIFY(std::int64_t(normals.size()) == count && std::int64_t(directions.size()) == count,
-                normals.size() << " normals and " << directions.size() << " directions for "
-                               << count << " vertices");
+  TEXSIM_VERIFY(std::int64_t(normals.size()) == count,
+                normals.size() << " normals for " << count << " vertices");
   TEXSIM_VERIFY(
       std::int64_t(rank_offsets.size()) == comm.size + 1 && rank_offsets.front() == 0 &&
           rank_offsets.back() == count && std::is_sorted(rank_offsets.begin(), rank_offsets.end()),
       "rank offsets must be " << comm.size + 1 << " non-decreasing values from 0 to " << count);
+  const std::int64_t run =
+      rank_offsets[std::size_t(comm.rank) + 1] - rank_offsets[std::size_t(comm.rank)];
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == run,
+                directions.size() << " directions for a run of " << run << " vertices");
   if (coarser == nullptr || coarser->parents.empty())
     return;
-  const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
-  const std::int64_t run = rank_offsets[std::size_t(comm.rank) + 1] - first;
-  TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == run,
-                coarser->parents.size() << " parent faces for a run of " << run << " vertices");
-  const auto coarse_count = std::int64_t(coarser->directions.size());
-  TEXSIM_VERIFY(std::int64_t(coarser->normals.size()) == coarse_count,
-                coarser->normals.size()
-                    << " coarser normals for " << coarse_count << " coarser directions");
-  for (std::int64_t i = 0; i < run; ++i)
-    for (const std::int32_t u : coarser->parents[std::size_t(i)].vertices)
-      TEXSIM_VERIFY(!coarser->parents[std::size_t(i)].found() || (u >= 0 && u < coarse_count),
-                    "parent vertex " << u << " of vertex " << first + i << " is not one of the "
-                                     << coarse_count << " vertices of the coarser level");
+  TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == run &&
+                    std::int64_t(coarser->directions.size()) == run &&
+                    std::int64_t(coarser->normals.size()) == run,
+                coarser->parents.size()
+                    << " parent faces, " << coarser->directions.size() << " and "
+                    << coarser->normals.size() << " corner directions and normals for a run of "
+                    << run << " vertices");
 }
 
 } // namespace
@@ -252,19 +284,23 @@ RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::in
   const geom::CsrAdjacency rings =
       run_rings(mesh, first, rank_offsets[std::size_t(comm.rank) + 1] - first);
   const auto classes = colour_classes(comm, rank_offsets, rings);
-  const DirectionReaders readers(comm, rank_offsets, rings);
-  const VertexEnergy energy(rings, first, normals, coarser, symmetry, directions);
+  const RingHalo halo(comm, rank_offsets, rings);
+  // The run's directions, then the halo's, sent by their owners.
+  std::vector<geom::Vec3> ghosted(directions);
+  ghosted.resize(std::size_t(halo.run) + halo.halo.size());
+  std::vector<std::int32_t> run(std::size_t(halo.run));
+  std::iota(run.begin(), run.end(), 0);
+  send_to_readers(comm, halo, run, ghosted);
+  const VertexEnergy energy(halo, normals, coarser, symmetry, ghosted);
   RelaxationReport report;
   report.colour_classes = std::int32_t(classes.size());
-  report.energy.push_back(total_energy(comm, rank_offsets, energy));
+  report.energy.push_back(total_energy(comm, halo.run, energy));
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     for (const auto& members : classes)
-      relax_class(comm, first, members, readers, energy, directions);
-    report.energy.push_back(total_energy(comm, rank_offsets, energy));
+      relax_class(comm, halo, members, energy, ghosted);
+    report.energy.push_back(total_energy(comm, halo.run, energy));
   }
-  // The sweeps kept only the 1-ring halos current; every rank gets every run's result.
-  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
-  par::allgather_runs(comm, rank_offsets, directions.data(), 3, MPI_DOUBLE);
+  std::copy(ghosted.begin(), ghosted.begin() + halo.run, directions.begin());
   return report;
 }
 

@@ -36,19 +36,18 @@ struct RelaxationReport {
 /// `sweeps` Gauss-Seidel sweeps over the colour classes of the 1-ring graph (greedy colouring in id
 /// order, so the classes do not depend on the rank count); each update rotates s_p about n_p by
 /// the exact minimiser of E_p over the 1-ring (and the parent-face vertices when `coarser` is
-/// given and has parents, here one per vertex of this rank's run: vertex rank_offsets[r] + i at
-/// i); a rotation that does not lower E_p strictly leaves s_p untouched.
+/// given and has parents); a rotation that does not lower E_p strictly leaves s_p untouched.
 /// Updated directions are unit vectors in their tangent planes.
 ///
-/// Distribution: geometry replicated; each rank finds the 1-rings of its run in `mesh`'s
-/// triangles (no whole-level topology) and updates the vertices of its run
-/// [rank_offsets[r], rank_offsets[r+1]) in each class (OpenMP threads share the run), then sends
-/// the class's new directions to the ranks with the vertices in their runs' 1-rings; the runs are
-/// all-gathered once at the end. The total energy is a par::reproducible_sum of the vertices'
-/// shares. `directions` (per vertex, replicated) are the same bits on return for any rank count
-/// and thread count, and so is the energy. rank_offsets has comm.size + 1
-/// non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1, sweeps >= 0.
-/// Collective.
+/// Distribution: the mesh and normals are the level's whole (replicated); `directions` holds this
+/// rank's run [rank_offsets[r], rank_offsets[r+1]) only, and `coarser` one entry per run vertex.
+/// Each rank finds the 1-rings of its run in `mesh`'s triangles (no whole-level topology), gets
+/// its ring halo's directions from their owners, updates its run's members of each class (OpenMP
+/// threads share them) and sends their new directions to the ranks whose rings hold them. The
+/// total energy is a par::reproducible_sum of the vertices' shares. The directions are the same
+/// bits on return for any rank count and thread count, and so is the energy. rank_offsets has
+/// comm.size + 1 non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1,
+/// sweeps >= 0. Collective.
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
                                   const geom::TriangleMesh& mesh,
                                   std::span<const geom::Vec3> normals,

@@ -19,7 +19,7 @@ namespace texsim::pipelines::surface_synthesis {
 /// Everything the loop reads; per-level vectors are indexed by level (0 = finest).
 struct PyramidSynthesisInput {
   const std::vector<RetiledLevel>& pyramid;
-  const std::vector<std::vector<geom::Vec3>>& directions;
+  const std::vector<std::vector<geom::Vec3>>& directions; ///< of this rank's run of each level
   /// Level k's parent faces on level k + 1 of this rank's run of level k (empty for the coarsest).
   const std::vector<std::vector<ParentFace>>& parents;
   const std::vector<img::RgbImage>& exemplar; ///< G_a, as many levels as the pyramid

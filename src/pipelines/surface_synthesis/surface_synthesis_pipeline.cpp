@@ -12,6 +12,8 @@
 #include "io/checkpoint_store.hpp"
 #include "par/checkpoint_clock.hpp"
 #include "par/collective.hpp"
+#include "par/id_runs.hpp"
+#include "par/record_exchange.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_frames.hpp"
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
@@ -28,9 +30,6 @@
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
-
-// Directions and field vectors travel in MPI messages as three doubles each.
-static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
 
 /// The orientation field of mode `field` at a level's vertices: the three expressions of x, y, z
 /// and the mesh arrays (sampled at the closest point of the input file's surface).
@@ -137,24 +136,36 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     nlohmann::json relax_metrics = nlohmann::json::array();
     for (int k = levels - 1; k >= 0; --k) {
       const auto& level = pyramid[std::size_t(k)];
+      const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
+      const auto normals =
+          std::span(level.normals)
+              .subspan(std::size_t(first),
+                       std::size_t(level.rank_offsets[std::size_t(comm.rank) + 1] - first));
       if (k + 1 < levels) // each rank searches and keeps its own run
         parents[std::size_t(k)] =
             find_parent_faces(comm, level.rank_offsets, level.mesh.positions, level.normals,
                               pyramid[std::size_t(k) + 1].mesh);
-      auto& s = directions[std::size_t(k)];
-      const auto random = random_directions(level.normals, run.seed, k);
+      auto& s = directions[std::size_t(k)]; // this rank's run
+      const auto random = random_directions(normals, run.seed, k, first);
       if (orientation.mode == OrientationMode::random) {
         s = random;
       } else if (orientation.mode == OrientationMode::field) {
-        // Rank 0 reads the mesh arrays and evaluates the field; every rank gets it.
-        std::vector<geom::Vec3> field(level.mesh.positions.size());
+        // Rank 0 reads the mesh arrays and evaluates the field; each rank gets its run.
+        std::vector<std::vector<std::array<double, 3>>> runs(std::size_t(comm.size));
         par::run_collectively(comm, [&] {
-          if (comm.is_root())
-            field = field_vectors(orientation, settings_.mesh, level);
+          if (!comm.is_root())
+            return;
+          const auto field = field_vectors(orientation, settings_.mesh, level);
+          for (std::size_t v = 0; v < field.size(); ++v)
+            runs[std::size_t(par::owner_of(level.rank_offsets, std::int64_t(v)))].push_back(
+                {field[v].x(), field[v].y(), field[v].z()});
         });
-        MPI_Bcast(field.data(), int(3 * field.size()), MPI_DOUBLE, 0, comm.raw);
+        std::vector<geom::Vec3> field;
+        for (const auto& f : par::exchange_records(comm, std::move(runs)))
+          field.emplace_back(f[0], f[1], f[2]);
         std::int64_t degenerate = 0;
-        s = projected_directions(level.normals, field, &degenerate);
+        s = projected_directions(normals, field, &degenerate);
+        MPI_Allreduce(MPI_IN_PLACE, &degenerate, 1, MPI_INT64_T, MPI_SUM, comm.raw);
         if (degenerate > 0)
           log::info(log::cat("level ", k,
                              ": the orientation field is normal to the surface or "
@@ -163,10 +174,10 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       } else {
         std::optional<CoarserOrientation> coarser;
         if (k + 1 < levels) {
-          coarser = CoarserOrientation{parents[std::size_t(k)], directions[std::size_t(k) + 1],
-                                       pyramid[std::size_t(k) + 1].normals};
-          s = inherited_directions(comm, level.rank_offsets, level.normals, *coarser,
-                                   orientation.symmetry, random);
+          const auto& coarse = pyramid[std::size_t(k) + 1];
+          coarser = coarser_orientation(comm, parents[std::size_t(k)], coarse.rank_offsets,
+                                        directions[std::size_t(k) + 1], coarse.normals);
+          s = inherited_directions(normals, *coarser, orientation.symmetry, random);
         } else {
           s = random;
         }
