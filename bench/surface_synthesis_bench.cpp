@@ -78,10 +78,7 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
   for (int k = levels - 1; k >= 0; --k) {
     const auto K = std::size_t(k);
     const std::int64_t first = pyramid[K].rank_offsets[std::size_t(comm.rank)];
-    const auto normals =
-        std::span(pyramid[K].normals)
-            .subspan(std::size_t(first),
-                     std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first));
+    const auto& normals = pyramid[K].normals; // this rank's run
     const auto random = random_directions(normals, 1, k, first);
     std::optional<CoarserOrientation> coarser;
     directions[K] = random;
@@ -90,7 +87,7 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
                                     directions[K + 1], pyramid[K + 1].normals);
       directions[K] = inherited_directions(normals, *coarser, 2, random);
     }
-    relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
+    relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, normals,
                      coarser ? &*coarser : nullptr, 2, sweeps, directions[K]);
   }
   return directions;
@@ -182,8 +179,8 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    const auto stencils =
-        build_level_stencils(level, directions[0], &pyramid[1], parents[0], layout, first, owned);
+    const auto stencils = build_level_stencils(level, level.normals, directions[0], &pyramid[1],
+                                               parents[0], layout, first, owned);
     const LevelSynthesizer tsvq(comm, stencils, level.rank_offsets, exemplar, 0, layout,
                                 SearchMethod::tsvq, ExemplarBorder::toroidal);
     const auto exact =

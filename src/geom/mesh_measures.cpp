@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <numeric>
 
 namespace texsim::geom {
@@ -59,12 +60,20 @@ std::vector<Vec3> triangle_normals(const TriangleMesh& mesh) {
 }
 
 std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
-  std::vector<Vec3> normals(mesh.positions.size(), Vec3::Zero());
+  return vertex_normals(mesh, 0, mesh.num_vertices());
+}
+
+std::vector<Vec3> vertex_normals(const TriangleMesh& mesh, std::int64_t first, std::int64_t count) {
+  std::vector<Vec3> normals(static_cast<std::size_t>(count), Vec3::Zero());
   for (const auto& tri : mesh.triangles) {
+    if (std::none_of(tri.begin(), tri.end(),
+                     [&](std::int32_t v) { return v >= first && v < first + count; }))
+      continue;
     // The cross product's length is twice the area: summing it weights normals by area.
     const Vec3 weighted = doubled_area_vector(mesh, tri);
     for (const auto v : tri) {
-      normals[v] += weighted;
+      if (v >= first && v < first + count)
+        normals[static_cast<std::size_t>(v - first)] += weighted;
     }
   }
   for (auto& n : normals) {

@@ -30,6 +30,10 @@ std::vector<Vec3> triangle_normals(const TriangleMesh& mesh);
 /// for a vertex without triangles (or whose triangles cancel).
 std::vector<Vec3> vertex_normals(const TriangleMesh& mesh);
 
+/// The same for the vertices [first, first + count) only (vertex first + i at i), from one pass
+/// over the triangles: the same bits as those entries of the whole call, for a rank's run.
+std::vector<Vec3> vertex_normals(const TriangleMesh& mesh, std::int64_t first, std::int64_t count);
+
 /// Mean length of the triangle sides (an edge shared by two triangles counts twice); 0 for a mesh
 /// without triangles.
 double mean_edge_length(const TriangleMesh& mesh);

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <utility>
 
 namespace texsim::geom {
 namespace {
@@ -28,6 +30,19 @@ TEST(MeshMeasures, VertexNormalsOfSpherePointOutward) {
     // By symmetry of the icosphere the area-weighted normal is close to the radial direction.
     EXPECT_GT(normals[v].dot(mesh.positions[v].normalized()), 0.999) << "vertex " << v;
     EXPECT_NEAR(normals[v].norm(), 1.0, 1e-12);
+  }
+}
+
+TEST(MeshMeasures, RunNormalsAreTheWholeMeshsBits) {
+  const auto mesh = noisy(icosphere(3), 0.05, 2);
+  const auto whole = vertex_normals(mesh);
+  for (const auto [first, count] :
+       {std::pair<std::int64_t, std::int64_t>{0, 642}, {100, 1}, {317, 200}, {641, 1}, {5, 0}}) {
+    const auto run = vertex_normals(mesh, first, count);
+    ASSERT_EQ(run.size(), std::size_t(count));
+    for (std::int64_t i = 0; i < count; ++i)
+      EXPECT_EQ(std::memcmp(&run[std::size_t(i)], &whole[std::size_t(first + i)], sizeof(Vec3)), 0)
+          << "vertex " << first + i;
   }
 }
 

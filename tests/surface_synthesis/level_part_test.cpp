@@ -120,9 +120,10 @@ void expect_whole_level_stencils(const RetiledLevel& level,
   std::vector<SampleWeights> expected(positions.size());
   for (int run = 0; run < kRuns; ++run) {
     const std::int64_t first = run_start(level, run), end = run_start(level, run + 1);
+    const auto count = std::size_t(end - first);
     const auto stencils = build_level_stencils(
-        level, directions.subspan(std::size_t(first), std::size_t(end - first)), nullptr, {},
-        layout, first, end - first);
+        level, std::span(level.normals).subspan(std::size_t(first), count),
+        directions.subspan(std::size_t(first), count), nullptr, {}, layout, first, end - first);
     for (std::int64_t v = first; v < end; ++v) {
       flatten_patch(level.mesh, topology, topology.vertex_triangles().row(std::int32_t(v)),
                     frame_at(level, directions, v), template_radius(level.spacing), patch, scratch);

@@ -222,7 +222,7 @@ TEST(OrientationRelaxation, EnergyNeverRises) {
       auto directions = own_run(world, random_directions(fine.normals, 21, 1));
       const RelaxationReport report =
           relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
-                           fine.normals, parent_level, symmetry, 30, directions);
+                           own_run(world, fine.normals), parent_level, symmetry, 30, directions);
       ASSERT_EQ(report.energy.size(), 31u);
       EXPECT_GE(report.colour_classes, 4);
       EXPECT_LT(report.energy.back(), 0.2 * report.energy.front());
@@ -257,12 +257,13 @@ TEST(OrientationRelaxation, QuarterTurnsAreFixedForFourWayOnly) {
   const par::Comm world = par::world();
   const auto runs = equal_runs(world, grid.topology.num_vertices());
   auto four_way = own_run(world, start);
-  const auto fixed =
-      relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 4, 5, four_way);
+  const auto fixed = relax_directions(world, runs, grid.mesh, own_run(world, grid.normals), nullptr,
+                                      4, 5, four_way);
   EXPECT_LT(fixed.energy.front(), 1e-20);
   four_way = whole_level(world, four_way, grid.topology.num_vertices());
   auto two_way = own_run(world, start);
-  const auto moved = relax_directions(world, runs, grid.mesh, grid.normals, nullptr, 2, 5, two_way);
+  const auto moved = relax_directions(world, runs, grid.mesh, own_run(world, grid.normals), nullptr,
+                                      2, 5, two_way);
   EXPECT_LT(moved.energy.back(), 0.5 * moved.energy.front());
   two_way = whole_level(world, two_way, grid.topology.num_vertices());
   double largest_four = 0.0;
@@ -309,7 +310,7 @@ TEST(OrientationRelaxation, RelaxedSphereIsSmoothAlmostEverywhere) {
       coarser = coarser_orientation(parents, coarse_directions, coarse->normals);
       directions = inherited_directions(own_run(world, level->normals), *coarser, 2, directions);
     }
-    relax_directions(world, equal_runs(world, count), level->mesh, level->normals,
+    relax_directions(world, equal_runs(world, count), level->mesh, own_run(world, level->normals),
                      coarser ? &*coarser : nullptr, 2, 30, directions);
     coarse = std::move(level);
     coarse_directions = whole_level(world, directions, count);
@@ -338,8 +339,9 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   auto distributed = own_run(world, start);
   const auto run_parents = own_run(world, parents);
   const auto coarser_run = coarser_orientation(run_parents, coarse_directions, coarse.normals);
-  const auto distributed_report = relax_directions(world, equal_runs(world, count), fine.mesh,
-                                                   fine.normals, &coarser_run, 2, 10, distributed);
+  const auto distributed_report =
+      relax_directions(world, equal_runs(world, count), fine.mesh, own_run(world, fine.normals),
+                       &coarser_run, 2, 10, distributed);
   distributed = whole_level(world, distributed, count);
   auto serial = start;
   const auto serial_report = relax_directions(self, equal_runs(self, count), fine.mesh,
@@ -364,8 +366,8 @@ TEST(ParentFaces, RunsSearchedOnEveryRankGiveTheSerialFaces) {
                                         geom::AabbTree(coarse.mesh));
   const par::Comm world = par::world();
   const auto runs = equal_runs(world, fine.topology.num_vertices());
-  const auto distributed =
-      find_parent_faces(world, runs, fine.mesh.positions, fine.normals, coarse.mesh);
+  const auto distributed = find_parent_faces(world, runs, fine.mesh.positions,
+                                             own_run(world, fine.normals), coarse.mesh);
   const auto first = std::size_t(runs[world.rank]);
   ASSERT_EQ(distributed.size(), std::size_t(runs[world.rank + 1]) - first);
   for (std::size_t i = 0; i < distributed.size(); ++i) {
@@ -407,7 +409,7 @@ TEST(OrientationField, CornersFetchedFromTheirOwnersAreTheSerialOnes) {
   const par::Comm world = par::world();
   const auto fetched =
       coarser_orientation(world, parents, equal_runs(world, coarse.topology.num_vertices()),
-                          own_run(world, coarse_directions), coarse.normals);
+                          own_run(world, coarse_directions), own_run(world, coarse.normals));
   ASSERT_EQ(fetched.directions.size(), parents.size());
   ASSERT_EQ(fetched.normals.size(), parents.size());
   for (std::size_t v = 0; v < parents.size(); ++v) {

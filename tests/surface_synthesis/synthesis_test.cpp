@@ -48,7 +48,7 @@ struct Prepared {
       const auto K = std::size_t(k);
       const std::int64_t first = pyramid[K].rank_offsets[std::size_t(comm.rank)];
       const auto count = std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first);
-      const auto normals = std::span(pyramid[K].normals).subspan(std::size_t(first), count);
+      const auto& normals = pyramid[K].normals; // this rank's run
       if (k + 1 < n)
         parents[K] = find_parent_faces(comm, pyramid[K].rank_offsets, pyramid[K].mesh.positions,
                                        pyramid[K].normals, pyramid[K + 1].mesh);
@@ -180,9 +180,9 @@ TEST(Synthesis, NoClassMemberReadsAnother) {
   const auto& level = prepared.pyramid[0];
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-  const auto stencils =
-      build_level_stencils(level, prepared.directions[0], &prepared.pyramid[1], prepared.parents[0],
-                           NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
+  const auto stencils = build_level_stencils(
+      level, level.normals, prepared.directions[0], &prepared.pyramid[1], prepared.parents[0],
+      NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
   const auto order = synthesis_order(comm, stencils, level.rank_offsets, 3, 0, Pass::refine);
   EXPECT_GT(order.classes, 1);
   const auto class_of = all_classes(comm, level.rank_offsets, order);
@@ -206,19 +206,23 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const auto& level = prepared.pyramid[0];
   const auto n = level.mesh.num_vertices();
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
-  // The whole level's parent faces and directions, for the whole level's stencils below.
-  const auto parents =
-      find_parent_faces(level.mesh.positions, level.normals, prepared.pyramid[1].mesh,
-                        geom::AabbTree(prepared.pyramid[1].mesh));
-  std::vector<geom::Vec3> directions(static_cast<std::size_t>(n));
-  std::copy(prepared.directions[0].begin(), prepared.directions[0].end(),
-            directions.begin() + level.rank_offsets[std::size_t(comm.rank)]);
-  par::allgather_runs(comm, level.rank_offsets, directions.data(), 3, MPI_DOUBLE);
+  // The whole level's normals, directions and parent faces, for the whole level's stencils below.
+  const auto whole_level = [&](const std::vector<geom::Vec3>& run) {
+    std::vector<geom::Vec3> all(static_cast<std::size_t>(n));
+    std::copy(run.begin(), run.end(), all.begin() + level.rank_offsets[std::size_t(comm.rank)]);
+    par::allgather_runs(comm, level.rank_offsets, all.data(), 3, MPI_DOUBLE);
+    return all;
+  };
+  const auto normals = whole_level(level.normals);
+  const auto directions = whole_level(prepared.directions[0]);
+  const auto parents = find_parent_faces(level.mesh.positions, normals, prepared.pyramid[1].mesh,
+                                         geom::AabbTree(prepared.pyramid[1].mesh));
   const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
-    return build_level_stencils(
-        level, std::span(directions).subspan(std::size_t(first), std::size_t(owned)),
-        &prepared.pyramid[1], std::span(parents).subspan(std::size_t(first), std::size_t(owned)),
-        layout, first, owned);
+    const auto run = [&](const auto& all) {
+      return std::span(all).subspan(std::size_t(first), std::size_t(owned));
+    };
+    return build_level_stencils(level, run(normals), run(directions), &prepared.pyramid[1],
+                                run(parents), layout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto order = synthesis_order(

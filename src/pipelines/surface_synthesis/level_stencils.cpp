@@ -35,7 +35,7 @@ bool sample_on_level(const LevelPart& part, const FlattenedPatch& patch,
 /// Flattens the stencils' patches on LevelParts of the level and the coarser level.
 struct StencilPatches {
   const RetiledLevel& level;
-  std::span<const geom::Vec3> directions;
+  std::span<const geom::Vec3> normals, directions;
   const RetiledLevel* coarser;
   std::span<const ParentFace> parents;
   std::span<const Eigen::Vector2d> current_positions, coarser_positions;
@@ -67,7 +67,7 @@ struct StencilPatches {
       for (std::size_t i = 0; i < vertices.size(); ++i) {
         const auto v = std::size_t(vertices[i]);
         const auto local = std::size_t(vertices[i] - stencils.first);
-        const geom::Vec3& n = level.normals[v];
+        const geom::Vec3& n = normals[local];
         const geom::Vec3& s = directions[local];
         const TangentFrame frame{level.mesh.positions[v], s, n.cross(s), n};
         const auto around =
@@ -108,15 +108,16 @@ std::int64_t LevelStencils::uncovered() const {
   return count(current) + count(coarser);
 }
 
-LevelStencils build_level_stencils(const RetiledLevel& level,
+LevelStencils build_level_stencils(const RetiledLevel& level, std::span<const geom::Vec3> normals,
                                    std::span<const geom::Vec3> directions,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
                                    std::int64_t owned) {
   TEXSIM_VERIFY(coarser == nullptr || std::int64_t(parents.size()) == owned,
                 parents.size() << " parent faces for " << owned << " owned vertices");
-  TEXSIM_VERIFY(std::int64_t(directions.size()) == owned,
-                directions.size() << " directions for " << owned << " owned vertices");
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == owned && std::int64_t(normals.size()) == owned,
+                directions.size() << " directions and " << normals.size() << " normals for "
+                                  << owned << " owned vertices");
   LevelStencils stencils;
   stencils.first = first;
   stencils.owned = owned;
@@ -130,9 +131,9 @@ LevelStencils build_level_stencils(const RetiledLevel& level,
   const double current_radius = patch_radius(current_positions, d);
   const double coarser_radius = coarser ? patch_radius(coarser_positions, coarser->spacing) : 0;
 
-  const StencilPatches patches{level,          directions,        coarser,
-                               parents,        current_positions, coarser_positions,
-                               current_radius, coarser_radius};
+  const StencilPatches patches{level,         normals,           directions,        coarser,
+                               parents,       current_positions, coarser_positions, current_radius,
+                               coarser_radius};
   std::vector<std::int64_t> pending(static_cast<std::size_t>(owned));
   std::iota(pending.begin(), pending.end(), first);
   // Each round redoes the vertices whose patches left the last round's parts, on parts twice as

@@ -134,7 +134,9 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
                             "surface_synthesis.vertices or fewer surface_synthesis.levels");
   });
   par::broadcast_records(comm, retiled.mesh.triangles);
-  retiled.normals = geom::vertex_normals(retiled.mesh);
+  const std::int64_t first = retiled.rank_offsets[std::size_t(comm.rank)];
+  retiled.normals = geom::vertex_normals(retiled.mesh, first,
+                                         retiled.rank_offsets[std::size_t(comm.rank) + 1] - first);
   retiled.spacing =
       std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
   log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",

@@ -25,10 +25,12 @@ struct MeshPyramidSettings {
   geom::SurfaceCellsSettings cells;
 };
 
-/// One retiled level, replicated on every rank (for now).
+/// One retiled level: its mesh replicated on every rank (for now), its normals per run.
 struct RetiledLevel {
-  geom::TriangleMesh mesh;         ///< vertex v = SurfaceCells id v (Morton order)
-  std::vector<geom::Vec3> normals; ///< unit area-weighted vertex normals of `mesh`
+  geom::TriangleMesh mesh; ///< vertex v = SurfaceCells id v (Morton order)
+  /// Unit area-weighted vertex normals of `mesh` of this rank's run (vertex rank_offsets[r] + i
+  /// at i).
+  std::vector<geom::Vec3> normals;
   /// First owned id of each rank and the total at the end (ranks + 1 entries): SurfaceCells' runs
   /// (par/id_runs.hpp).
   std::vector<std::int64_t> rank_offsets;

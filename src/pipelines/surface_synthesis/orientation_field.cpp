@@ -127,25 +127,39 @@ CoarserOrientation coarser_orientation(std::span<const ParentFace> parents,
   return coarser;
 }
 
+OwnersFrames fetch_frames(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
+                          std::span<const std::int64_t> ids, std::span<const geom::Vec3> directions,
+                          std::span<const geom::Vec3> normals) {
+  verify_sizes(normals.size(), directions.size(), "normals of the run");
+  // A vertex's direction and normal travel together.
+  using Frame = std::array<double, 6>;
+  std::vector<Frame> mine;
+  mine.reserve(directions.size());
+  for (std::size_t u = 0; u < directions.size(); ++u) {
+    const geom::Vec3& s = directions[u];
+    const geom::Vec3& n = normals[u];
+    mine.push_back({s.x(), s.y(), s.z(), n.x(), n.y(), n.z()});
+  }
+  const auto fetched =
+      par::fetch_from_owners(comm, rank_offsets, ids, std::span<const Frame>(mine));
+  OwnersFrames frames;
+  for (const Frame& f : fetched) {
+    frames.directions.emplace_back(f[0], f[1], f[2]);
+    frames.normals.emplace_back(f[3], f[4], f[5]);
+  }
+  return frames;
+}
+
 CoarserOrientation coarser_orientation(const par::Comm& comm, std::span<const ParentFace> parents,
                                        std::span<const std::int64_t> coarse_offsets,
                                        std::span<const geom::Vec3> coarse_directions,
                                        std::span<const geom::Vec3> coarse_normals) {
-  TEXSIM_VERIFY(coarse_offsets.size() == std::size_t(comm.size) + 1 &&
-                    coarse_offsets.back() == std::int64_t(coarse_normals.size()),
-                "coarser_orientation: rank offsets do not split the " << coarse_normals.size()
-                                                                      << " coarser vertices");
-  using Triple = std::array<double, 3>;
-  std::vector<Triple> mine;
-  mine.reserve(coarse_directions.size());
-  for (const auto& s : coarse_directions)
-    mine.push_back({s.x(), s.y(), s.z()});
   std::vector<std::int64_t> corners;
   for (const auto& parent : parents)
     if (parent.found())
       corners.insert(corners.end(), parent.vertices.begin(), parent.vertices.end());
-  const auto fetched = par::fetch_from_owners(comm, coarse_offsets, std::span(corners),
-                                              std::span<const Triple>(mine));
+  const auto fetched =
+      fetch_frames(comm, coarse_offsets, corners, coarse_directions, coarse_normals);
   CoarserOrientation coarser{parents, {}, {}};
   coarser.directions.resize(parents.size());
   coarser.normals.resize(parents.size());
@@ -154,9 +168,8 @@ CoarserOrientation coarser_orientation(const par::Comm& comm, std::span<const Pa
     if (!parents[v].found())
       continue;
     for (std::size_t corner = 0; corner < 3; ++corner, ++next) {
-      const Triple& s = fetched[next];
-      coarser.directions[v][corner] = geom::Vec3(s[0], s[1], s[2]);
-      coarser.normals[v][corner] = coarse_normals[std::size_t(parents[v].vertices[corner])];
+      coarser.directions[v][corner] = fetched.directions[next];
+      coarser.normals[v][corner] = fetched.normals[next];
     }
   }
   return coarser;

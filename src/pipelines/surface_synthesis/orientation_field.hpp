@@ -4,7 +4,7 @@
 /// tangent-plane geometry they and the relaxation share: a fixed basis per normal, the minimal
 /// rotation carrying one tangent plane onto another, signed angles. Angles are in radians
 /// throughout. Every function is a pure function of its arguments, and all but the collective
-/// coarser_orientation() are serial.
+/// fetch_frames() and coarser_orientation() are serial.
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 
@@ -44,10 +44,23 @@ CoarserOrientation coarser_orientation(std::span<const ParentFace> parents,
                                        std::span<const geom::Vec3> coarse_directions,
                                        std::span<const geom::Vec3> coarse_normals);
 
-/// The same with the coarser directions kept per run: `coarse_directions` is this rank's run
-/// [coarse_offsets[r], coarse_offsets[r + 1]) of the coarser level, and the corners' directions
-/// are fetched from their owners; `coarse_normals` covers the whole coarser level. The same values
-/// as the serial call. Collective.
+/// Directions and normals of some vertices of a level kept per run.
+struct OwnersFrames {
+  std::vector<geom::Vec3> directions;
+  std::vector<geom::Vec3> normals;
+};
+
+/// The directions and normals at `ids` (in their order; repeats allowed) of a level whose run
+/// [rank_offsets[r], rank_offsets[r + 1]) rank r holds (`directions`, `normals`), fetched from
+/// their owners. Collective.
+OwnersFrames fetch_frames(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
+                          std::span<const std::int64_t> ids, std::span<const geom::Vec3> directions,
+                          std::span<const geom::Vec3> normals);
+
+/// The same with the coarser level kept per run: `coarse_directions` and `coarse_normals` are
+/// this rank's run [coarse_offsets[r], coarse_offsets[r + 1]) of the coarser level, and the
+/// corners' values are fetched from their owners. The same values as the serial call.
+/// Collective.
 CoarserOrientation coarser_orientation(const par::Comm& comm, std::span<const ParentFace> parents,
                                        std::span<const std::int64_t> coarse_offsets,
                                        std::span<const geom::Vec3> coarse_directions,

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <numeric>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -81,11 +80,6 @@ struct RingHalo {
       return std::int32_t(v - first);
     return run + std::int32_t(std::lower_bound(halo.begin(), halo.end(), v) - halo.begin());
   }
-
-  /// The global id of a local one.
-  std::int64_t global(std::int32_t local) const {
-    return local < run ? first + local : halo[std::size_t(local - run)];
-  }
 };
 
 struct DirectionUpdate {
@@ -114,14 +108,13 @@ void send_to_readers(const par::Comm& comm, const RingHalo& halo,
 /// and its parent face's corners on the fixed coarser level.
 class VertexEnergy {
 public:
-  VertexEnergy(const RingHalo& halo, std::span<const geom::Vec3> normals,
+  /// `normals` and `directions`: the run's, then the halo's.
+  VertexEnergy(const RingHalo& halo, const std::vector<geom::Vec3>& normals,
                const CoarserOrientation* coarser, int symmetry,
                const std::vector<geom::Vec3>& directions)
-      : halo_(halo), coarser_(coarser != nullptr && !coarser->parents.empty() ? coarser : nullptr),
-        symmetry_(symmetry), directions_(directions) {
-    for (std::int32_t i = 0; i < halo.run + std::int32_t(halo.halo.size()); ++i)
-      normals_.push_back(normals[std::size_t(halo.global(i))]);
-  }
+      : halo_(halo), normals_(normals),
+        coarser_(coarser != nullptr && !coarser->parents.empty() ? coarser : nullptr),
+        symmetry_(symmetry), directions_(directions) {}
 
   /// phi_qp of run vertex p's 1-ring into `angles`, then those of its parent-face vertices;
   /// returns the number of 1-ring angles.
@@ -166,7 +159,7 @@ public:
 
 private:
   const RingHalo& halo_;
-  std::vector<geom::Vec3> normals_; ///< run, then halo
+  const std::vector<geom::Vec3>& normals_; ///< run, then halo
   const CoarserOrientation* coarser_;
   int symmetry_;
   const std::vector<geom::Vec3>& directions_; ///< run, then halo
@@ -211,16 +204,15 @@ void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_off
   const std::int64_t count = mesh.num_vertices();
   TEXSIM_VERIFY(symmetry >= 1, "orientation symmetry " << symmetry << " is below 1");
   TEXSIM_VERIFY(sweeps >= 0, "relaxation sweeps " << sweeps << " is negative");
-  TEXSIM_VERIFY(std::int64_t(normals.size()) == count,
-                normals.size() << " normals for " << count << " vertices");
   TEXSIM_VERIFY(
       std::int64_t(rank_offsets.size()) == comm.size + 1 && rank_offsets.front() == 0 &&
           rank_offsets.back() == count && std::is_sorted(rank_offsets.begin(), rank_offsets.end()),
       "rank offsets must be " << comm.size + 1 << " non-decreasing values from 0 to " << count);
   const std::int64_t run =
       rank_offsets[std::size_t(comm.rank) + 1] - rank_offsets[std::size_t(comm.rank)];
-  TEXSIM_VERIFY(std::int64_t(directions.size()) == run,
-                directions.size() << " directions for a run of " << run << " vertices");
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == run && std::int64_t(normals.size()) == run,
+                directions.size() << " directions and " << normals.size()
+                                  << " normals for a run of " << run << " vertices");
   if (coarser == nullptr || coarser->parents.empty())
     return;
   TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == run &&
@@ -285,13 +277,13 @@ RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::in
       run_rings(mesh, first, rank_offsets[std::size_t(comm.rank) + 1] - first);
   const auto classes = colour_classes(comm, rank_offsets, rings);
   const RingHalo halo(comm, rank_offsets, rings);
-  // The run's directions, then the halo's, sent by their owners.
+  // The run's directions and normals, then the halo's, fetched from their owners.
+  auto fetched = fetch_frames(comm, rank_offsets, halo.halo, directions, normals);
   std::vector<geom::Vec3> ghosted(directions);
-  ghosted.resize(std::size_t(halo.run) + halo.halo.size());
-  std::vector<std::int32_t> run(std::size_t(halo.run));
-  std::iota(run.begin(), run.end(), 0);
-  send_to_readers(comm, halo, run, ghosted);
-  const VertexEnergy energy(halo, normals, coarser, symmetry, ghosted);
+  ghosted.insert(ghosted.end(), fetched.directions.begin(), fetched.directions.end());
+  std::vector<geom::Vec3> ghosted_normals(normals.begin(), normals.end());
+  ghosted_normals.insert(ghosted_normals.end(), fetched.normals.begin(), fetched.normals.end());
+  const VertexEnergy energy(halo, ghosted_normals, coarser, symmetry, ghosted);
   RelaxationReport report;
   report.colour_classes = std::int32_t(classes.size());
   report.energy.push_back(total_energy(comm, halo.run, energy));

@@ -39,15 +39,15 @@ struct RelaxationReport {
 /// given and has parents); a rotation that does not lower E_p strictly leaves s_p untouched.
 /// Updated directions are unit vectors in their tangent planes.
 ///
-/// Distribution: the mesh and normals are the level's whole (replicated); `directions` holds this
+/// Distribution: the mesh is the level's whole (replicated); `normals` and `directions` hold this
 /// rank's run [rank_offsets[r], rank_offsets[r+1]) only, and `coarser` one entry per run vertex.
-/// Each rank finds the 1-rings of its run in `mesh`'s triangles (no whole-level topology), gets
-/// its ring halo's directions from their owners, updates its run's members of each class (OpenMP
-/// threads share them) and sends their new directions to the ranks whose rings hold them. The
-/// total energy is a par::reproducible_sum of the vertices' shares. The directions are the same
-/// bits on return for any rank count and thread count, and so is the energy. rank_offsets has
-/// comm.size + 1 non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1,
-/// sweeps >= 0. Collective.
+/// Each rank finds the 1-rings of its run in `mesh`'s triangles (no whole-level topology), fetches
+/// its ring halo's directions and normals from their owners, updates its run's members of each
+/// class (OpenMP threads share them) and sends their new directions to the ranks whose rings hold
+/// them. The total energy is a par::reproducible_sum of the vertices' shares. The directions are
+/// the same bits on return for any rank count and thread count, and so is the energy. rank_offsets
+/// has comm.size + 1 non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1, sweeps
+/// >= 0. Collective.
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
                                   const geom::TriangleMesh& mesh,
                                   std::span<const geom::Vec3> normals,

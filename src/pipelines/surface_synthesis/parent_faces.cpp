@@ -32,13 +32,13 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
                                           std::span<const geom::Vec3> normals,
                                           const geom::TriangleMesh& coarse) {
   TEXSIM_VERIFY(rank_offsets.size() == std::size_t(comm.size) + 1 &&
-                    rank_offsets.back() == std::int64_t(points.size()) &&
-                    normals.size() == points.size(),
+                    rank_offsets.back() == std::int64_t(points.size()),
                 "find_parent_faces: rank_offsets do not split the points");
   const auto first = std::size_t(rank_offsets[std::size_t(comm.rank)]);
   const auto count = std::size_t(rank_offsets[std::size_t(comm.rank) + 1]) - first;
-  return find_parent_faces(points.subspan(first, count), normals.subspan(first, count), coarse,
-                           geom::AabbTree(coarse));
+  TEXSIM_VERIFY(normals.size() == count,
+                "find_parent_faces: " << normals.size() << " normals for a run of " << count);
+  return find_parent_faces(points.subspan(first, count), normals, coarse, geom::AabbTree(coarse));
 }
 
 } // namespace texsim::pipelines::surface_synthesis

@@ -23,9 +23,10 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
                                           const geom::AabbTree& coarse_tree);
 
 /// The faces of this rank's run [rank_offsets[r], rank_offsets[r + 1]) of the points (vertex
-/// rank_offsets[r] + i at i), searched with the rank's own tree of `coarse` (dropped on return):
-/// the serial call's records for those points, the same bytes. No rank holds another's run: every
-/// reader of a parent face (orientation, stencils) works on its own vertices. Sends no messages.
+/// rank_offsets[r] + i at i; `normals` are the run's), searched with the rank's own tree of
+/// `coarse` (dropped on return): the serial call's records for those points, the same bytes. No
+/// rank holds another's run: every reader of a parent face (orientation, stencils) works on its own
+/// vertices. Sends no messages.
 std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
                                           std::span<const std::int64_t> rank_offsets,
                                           std::span<const geom::Vec3> points,

@@ -82,10 +82,11 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
     {
       auto stage = timers.scope("stencils");
       const bool reads_coarser = has_coarser && !layout.coarser.empty();
-      stencils = build_level_stencils(
-          level, input.directions[K], reads_coarser ? &input.pyramid[K + 1] : nullptr,
-          reads_coarser ? std::span(input.parents[K]) : std::span<const ParentFace>(), layout,
-          first, owned);
+      stencils = build_level_stencils(level, level.normals, input.directions[K],
+                                      reads_coarser ? &input.pyramid[K + 1] : nullptr,
+                                      reads_coarser ? std::span(input.parents[K])
+                                                    : std::span<const ParentFace>(),
+                                      layout, first, owned);
     }
     std::optional<LevelSynthesizer> synthesizer;
     {

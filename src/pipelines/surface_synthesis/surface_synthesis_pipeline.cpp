@@ -137,14 +137,10 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     for (int k = levels - 1; k >= 0; --k) {
       const auto& level = pyramid[std::size_t(k)];
       const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
-      const auto normals =
-          std::span(level.normals)
-              .subspan(std::size_t(first),
-                       std::size_t(level.rank_offsets[std::size_t(comm.rank) + 1] - first));
-      if (k + 1 < levels) // each rank searches and keeps its own run
-        parents[std::size_t(k)] =
-            find_parent_faces(comm, level.rank_offsets, level.mesh.positions, level.normals,
-                              pyramid[std::size_t(k) + 1].mesh);
+      const auto& normals = level.normals; // this rank's run
+      if (k + 1 < levels)                  // each rank searches and keeps its own run
+        parents[std::size_t(k)] = find_parent_faces(comm, level.rank_offsets, level.mesh.positions,
+                                                    normals, pyramid[std::size_t(k) + 1].mesh);
       auto& s = directions[std::size_t(k)]; // this rank's run
       const auto random = random_directions(normals, run.seed, k, first);
       if (orientation.mode == OrientationMode::random) {
@@ -181,7 +177,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         } else {
           s = random;
         }
-        const auto relaxed = relax_directions(comm, level.rank_offsets, level.mesh, level.normals,
+        const auto relaxed = relax_directions(comm, level.rank_offsets, level.mesh, normals,
                                               coarser ? &*coarser : nullptr, orientation.symmetry,
                                               orientation.sweeps, s);
         relax_metrics.push_back({{"level", k},
