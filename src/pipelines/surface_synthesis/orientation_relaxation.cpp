@@ -7,8 +7,6 @@
 #include "par/reproducible_sum.hpp"
 #include "pipelines/surface_synthesis/level_part.hpp"
 
-#include <mpi.h>
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
