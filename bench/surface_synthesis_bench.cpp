@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
     std::vector<double> seconds;
     std::vector<LevelColours> colours;
     for (int r = 0; r < settings.repeats; ++r) {
-      colours = random_start(pyramid, exemplar, 1);
+      colours = random_start(pyramid, exemplar, 1, comm.rank);
       texsim::StageTimers timers;
       seconds.push_back(max_over_ranks(comm, timed(comm, [&] {
                                          synthesize_pyramid(comm, input, colours, std::nullopt, {},
@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
     }
     // The error of this method's result, measured once with an exact search.
     input.measure_quality = true;
-    colours = random_start(pyramid, exemplar, 1);
+    colours = random_start(pyramid, exemplar, 1, comm.rank);
     texsim::StageTimers timers;
     const auto report = synthesize_pyramid(comm, input, colours, std::nullopt, {}, timers);
     methods[name] = {{"synthesis_s", median(seconds)},
@@ -179,16 +179,17 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    const auto stencils = build_level_stencils(level, level.normals, directions[0], &pyramid[1],
-                                               parents[0], layout, first, owned);
-    const LevelSynthesizer tsvq(comm, stencils, level.rank_offsets, exemplar, 0, layout,
-                                SearchMethod::tsvq, ExemplarBorder::toroidal);
+    auto stencils = build_level_stencils(level, level.normals, directions[0], &pyramid[1],
+                                         parents[0], layout, first, owned);
+    LevelSynthesizer tsvq(comm, std::move(stencils), level.rank_offsets, pyramid[1].rank_offsets,
+                          exemplar, 0, layout, SearchMethod::tsvq, ExemplarBorder::toroidal, 1);
+    tsvq.read_colours(tsvq_colours[0], &tsvq_colours[1]);
     const auto exact =
         make_neighbourhood_search(SearchMethod::pruned, tsvq.search(Pass::refine).table());
     double counts[2] = {0, double(owned)};
     std::vector<double> q;
     for (std::int64_t local = 0; local < owned; ++local) {
-      tsvq.neighbourhood(Pass::refine, local, tsvq_colours[0], &tsvq_colours[1], q);
+      tsvq.neighbourhood(Pass::refine, local, q);
       counts[0] += tsvq.search(Pass::refine).nearest(q) == exact->nearest(q);
     }
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_DOUBLE, MPI_SUM, comm.raw);

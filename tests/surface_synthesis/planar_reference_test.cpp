@@ -234,13 +234,13 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
     pass2_classes[std::size_t(k)] =
         synthesis_order(self, stencils, one_run, input.seed, k, Pass::refine).owned_class;
   }
-  auto colours = random_start(pyramid, exemplar, input.seed);
+  auto colours = random_start(pyramid, exemplar, input.seed, 0);
   StageTimers timers;
   synthesize_pyramid(self, input, colours, std::nullopt, {}, timers);
 
   // The planar reference from the same random start.
   const PlanarWeiLevoy planar(exemplar, shapes);
-  auto start = random_start(pyramid, exemplar, input.seed);
+  auto start = random_start(pyramid, exemplar, input.seed, 0);
   std::vector<std::vector<img::Rgb>> out;
   for (const auto& level : start)
     out.push_back(level.colours);
@@ -299,7 +299,7 @@ TEST(PlanarReference, LatticeExemplarOnAGridIsReproducedClosely) {
   const auto exemplar = exemplar_pyramid(load_exemplar(settings, 2), 4, ExemplarBorder::toroidal);
   PyramidSynthesisInput input{grid.pyramid, grid.directions, grid.parents, exemplar};
   input.shapes = {{7, 7, 2}, {5, 5, 2}, {3, 3, 2}, {1, 1, 1}};
-  auto colours = random_start(grid.pyramid, exemplar, input.seed);
+  auto colours = random_start(grid.pyramid, exemplar, input.seed, 0);
   StageTimers timers;
   const auto report = synthesize_pyramid(self, input, colours, std::nullopt, {}, timers);
   EXPECT_LT(report.neighbourhood_error, 0.2 * report.random_start_error)

@@ -8,6 +8,7 @@
 #include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
+#include "pipelines/surface_synthesis/level_synthesizer.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
@@ -20,7 +21,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <span>
+#include <type_traits>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -144,7 +147,7 @@ double meridian_alignment(const RetiledLevel& level, const LevelColours& colours
 }
 
 struct Run {
-  std::vector<LevelColours> colours;
+  std::vector<LevelColours> colours; ///< every vertex of every level, on every rank
   PyramidSynthesisReport report;
 };
 
@@ -153,9 +156,25 @@ Run synthesize(const par::Comm& comm, const Prepared& prepared,
   Run run;
   auto input = prepared.input(exemplar);
   input.method = method;
-  run.colours = random_start(prepared.pyramid, exemplar, input.seed);
+  run.colours = random_start(prepared.pyramid, exemplar, input.seed, comm.rank);
   StageTimers timers;
   run.report = synthesize_pyramid(comm, input, run.colours, std::nullopt, {}, timers);
+  // The runs completed into whole levels, for the checks below.
+  for (std::size_t k = 0; k < run.colours.size(); ++k) {
+    const auto& offsets = prepared.pyramid[k].rank_offsets;
+    auto& level = run.colours[k];
+    const auto first = std::ptrdiff_t(offsets[std::size_t(comm.rank)]);
+    const auto whole = [&](const auto& run_values) {
+      std::remove_cvref_t<decltype(run_values)> all(std::size_t(offsets.back()));
+      std::copy(run_values.begin(), run_values.end(), all.begin() + first);
+      return all;
+    };
+    level.colours = whole(level.colours);
+    level.pixels = whole(level.pixels);
+    static_assert(sizeof(img::Rgb) == 3 * sizeof(float));
+    par::allgather_runs(comm, offsets, level.colours.data(), 3, MPI_FLOAT);
+    par::allgather_runs(comm, offsets, level.pixels.data(), 1, MPI_INT32_T);
+  }
   return run;
 }
 
@@ -174,15 +193,75 @@ std::vector<std::int32_t> all_classes(const par::Comm& comm,
   return classes;
 }
 
+const auto kLayout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
+
+/// A 2048-vertex sphere's pyramid with random directions, and the stencils of this rank's run of
+/// its finest level (kLayout).
+struct FinestRun {
+  explicit FinestRun(const par::Comm& comm)
+      : prepared(comm, sphere_pyramid(comm, 2048), Orientation::random), level(prepared.pyramid[0]),
+        stencils(build_level_stencils(level, level.normals, prepared.directions[0],
+                                      &prepared.pyramid[1], prepared.parents[0], kLayout,
+                                      level.rank_offsets[std::size_t(comm.rank)],
+                                      level.rank_offsets[std::size_t(comm.rank) + 1] -
+                                          level.rank_offsets[std::size_t(comm.rank)])) {}
+  Prepared prepared;
+  const RetiledLevel& level;
+  LevelStencils stencils;
+};
+
+// A rank holds the colours of its run, of the vertices its stencils read on other ranks and of
+// the coarser vertices they read, nothing more: the halo is exactly the set the stencils read,
+// and every renumbered sample names the vertex it named before.
+TEST(Synthesis, HaloIsWhatTheStencilsRead) {
+  const par::Comm comm = par::world();
+  const FinestRun run(comm);
+  const auto& [prepared, level, stencils] = run;
+  const auto first = stencils.first, owned = stencils.owned;
+  const LevelSynthesizer synthesizer(comm, stencils, level.rank_offsets,
+                                     prepared.pyramid[1].rank_offsets, lattice(3), 0, kLayout,
+                                     SearchMethod::exhaustive, ExemplarBorder::toroidal, 3);
+  std::set<std::int64_t> read, coarser_read;
+  for (const auto& sample : stencils.current)
+    if (sample.covered())
+      for (const auto v : sample.vertices)
+        if (v < first || v >= first + owned)
+          read.insert(v);
+  for (const auto& sample : stencils.coarser)
+    if (sample.covered())
+      coarser_read.insert(sample.vertices.begin(), sample.vertices.end());
+  const auto halo = synthesizer.halo();
+  const auto coarser_reads = synthesizer.coarser_reads();
+  EXPECT_EQ(std::vector<std::int64_t>(halo.begin(), halo.end()),
+            std::vector<std::int64_t>(read.begin(), read.end()));
+  EXPECT_EQ(std::vector<std::int64_t>(coarser_reads.begin(), coarser_reads.end()),
+            std::vector<std::int64_t>(coarser_read.begin(), coarser_read.end()));
+  if (comm.size > 1) {
+    EXPECT_GT(halo.size(), 0u);
+    EXPECT_LT(std::int64_t(halo.size()), level.mesh.num_vertices() - owned);
+  }
+  const auto& local = synthesizer.stencils();
+  ASSERT_EQ(local.current.size(), stencils.current.size());
+  ASSERT_EQ(local.coarser.size(), stencils.coarser.size());
+  const auto level_id = [&](std::int32_t id) {
+    return id < owned ? first + id : halo[std::size_t(id - owned)];
+  };
+  for (std::size_t i = 0; i < stencils.current.size(); ++i)
+    if (stencils.current[i].covered())
+      for (std::size_t k = 0; k < 3; ++k)
+        ASSERT_EQ(level_id(local.current[i].vertices[k]), stencils.current[i].vertices[k]);
+  for (std::size_t i = 0; i < stencils.coarser.size(); ++i)
+    if (stencils.coarser[i].covered())
+      for (std::size_t k = 0; k < 3; ++k)
+        ASSERT_EQ(coarser_reads[std::size_t(local.coarser[i].vertices[k])],
+                  stencils.coarser[i].vertices[k]);
+}
+
 TEST(Synthesis, NoClassMemberReadsAnother) {
   const par::Comm comm = par::world();
-  const Prepared prepared(comm, sphere_pyramid(comm, 2048), Orientation::random);
-  const auto& level = prepared.pyramid[0];
-  const auto first = level.rank_offsets[std::size_t(comm.rank)];
-  const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-  const auto stencils = build_level_stencils(
-      level, level.normals, prepared.directions[0], &prepared.pyramid[1], prepared.parents[0],
-      NeighbourhoodTemplate::from_shape({7, 7, 2}, true), first, owned);
+  const FinestRun run(comm);
+  const auto& [prepared, level, stencils] = run;
+  const auto first = stencils.first, owned = stencils.owned;
   const auto order = synthesis_order(comm, stencils, level.rank_offsets, 3, 0, Pass::refine);
   EXPECT_GT(order.classes, 1);
   const auto class_of = all_classes(comm, level.rank_offsets, order);
@@ -205,7 +284,6 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const Prepared prepared(comm, sphere_pyramid(comm, 2048), Orientation::random);
   const auto& level = prepared.pyramid[0];
   const auto n = level.mesh.num_vertices();
-  const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
   // The whole level's normals, directions and parent faces, for the whole level's stencils below.
   const auto whole_level = [&](const std::vector<geom::Vec3>& run) {
     std::vector<geom::Vec3> all(static_cast<std::size_t>(n));
@@ -222,7 +300,7 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
       return std::span(all).subspan(std::size_t(first), std::size_t(owned));
     };
     return build_level_stencils(level, run(normals), run(directions), &prepared.pyramid[1],
-                                run(parents), layout, first, owned);
+                                run(parents), kLayout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto order = synthesis_order(

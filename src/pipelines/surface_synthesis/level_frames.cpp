@@ -6,7 +6,7 @@
 #include "par/id_runs.hpp"
 
 #include <algorithm>
-#include <array>
+#include <iterator>
 
 namespace texsim::pipelines::surface_synthesis {
 namespace {
@@ -51,22 +51,27 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
       for (const auto v : t)
         triangles.push_back(local_of[std::size_t(v)]);
 
-  using Triple = std::array<double, 3>;
-  std::vector<Triple> run_directions;
-  for (const auto& d : directions)
-    run_directions.push_back({d.x(), d.y(), d.z()});
+  // The corners' directions and colours, from their owners.
+  struct CornerValues {
+    double s[3];
+    img::Rgb colour;
+  };
+  std::vector<CornerValues> run_values;
+  for (std::size_t i = 0; i < directions.size(); ++i)
+    run_values.push_back(
+        {{directions[i].x(), directions[i].y(), directions[i].z()}, colours.colours[i]});
   const std::vector<std::int64_t> ids(used.begin(), used.end());
-  const auto used_directions = par::fetch_from_owners(comm_, retiled.rank_offsets, std::span(ids),
-                                                      std::span<const Triple>(run_directions));
+  const auto used_values = par::fetch_from_owners(comm_, retiled.rank_offsets, std::span(ids),
+                                                  std::span<const CornerValues>(run_values));
   std::vector<double> xyz, colour, s;
   std::vector<std::int32_t> owner;
   for (std::size_t i = 0; i < used.size(); ++i) {
     const auto v = std::size_t(used[i]);
     const auto& p = retiled.mesh.positions[v];
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-    const auto& c = colours.colours[v];
+    const auto& c = used_values[i].colour;
     colour.insert(colour.end(), {c.r, c.g, c.b});
-    s.insert(s.end(), used_directions[i].begin(), used_directions[i].end());
+    s.insert(s.end(), std::begin(used_values[i].s), std::end(used_values[i].s));
     owner.push_back(par::owner_of(retiled.rank_offsets, std::int64_t(v)));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};

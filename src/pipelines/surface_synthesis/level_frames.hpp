@@ -23,8 +23,8 @@ public:
   }
 
   /// Writes `level` of a `levels`-level pyramid after `pass` (each rank the triangles whose
-  /// smallest vertex it owns; `directions` of the rank's run, the other corners' fetched from
-  /// their owners) and adds it to the series. Collective.
+  /// smallest vertex it owns; `directions` and `colours` of the rank's run, the other corners'
+  /// fetched from their owners) and adds it to the series. Collective.
   void write(int levels, int level, Pass pass, const RetiledLevel& retiled,
              std::span<const geom::Vec3> directions, const LevelColours& colours);
 

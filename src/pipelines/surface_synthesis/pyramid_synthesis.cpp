@@ -1,9 +1,7 @@
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
 
 #include "core/rng.hpp"
-#include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
-#include "pipelines/surface_synthesis/synthesis_order.hpp"
 
 #include <mpi.h>
 
@@ -15,22 +13,14 @@ namespace {
 
 constexpr std::uint32_t kRandomStartStream = 0x5302;
 
-/// Every rank gets every vertex's colour of a finished level (geometry is replicated for now).
-void share_level(const par::Comm& comm, const RetiledLevel& level, LevelColours& colours) {
-  par::allgather_runs(comm, level.rank_offsets, colours.pixels.data(), 1, MPI_INT32_T);
-  static_assert(sizeof(img::Rgb) == 3 * sizeof(float));
-  par::allgather_runs(comm, level.rank_offsets, colours.colours.data(), 3, MPI_FLOAT);
-}
-
 /// How many distinct colours the level's vertices hold: each rank marks the exemplar pixels its
 /// own vertices copy, the marks are OR-ed over ranks, and the marked pixels' colours are counted
 /// (an exemplar may hold one colour at many pixels). Collective.
-std::int64_t distinct_colours(const par::Comm& comm, const RetiledLevel& level,
-                              const LevelColours& colours, const img::RgbImage& exemplar) {
+std::int64_t distinct_colours(const par::Comm& comm, const LevelColours& colours,
+                              const img::RgbImage& exemplar) {
   std::vector<std::uint8_t> used(exemplar.size(), 0);
-  for (auto v = level.rank_offsets[std::size_t(comm.rank)];
-       v < level.rank_offsets[std::size_t(comm.rank) + 1]; ++v)
-    used[std::size_t(colours.pixels[std::size_t(v)])] = 1;
+  for (const std::int32_t pixel : colours.pixels)
+    used[std::size_t(pixel)] = 1;
   MPI_Allreduce(MPI_IN_PLACE, used.data(), int(used.size()), MPI_UINT8_T, MPI_BOR, comm.raw);
   std::vector<std::array<float, 3>> palette;
   for (std::size_t p = 0; p < used.size(); ++p)
@@ -46,18 +36,19 @@ std::int64_t distinct_colours(const par::Comm& comm, const RetiledLevel& level,
 
 std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
                                        const std::vector<img::RgbImage>& exemplar,
-                                       std::uint64_t seed) {
+                                       std::uint64_t seed, int rank) {
   const CounterRng rng(seed, kRandomStartStream);
   std::vector<LevelColours> colours(pyramid.size());
   for (std::size_t k = 0; k < pyramid.size(); ++k) {
-    const auto n = std::size_t(pyramid[k].rank_offsets.back());
+    const auto first = std::size_t(pyramid[k].rank_offsets[std::size_t(rank)]);
+    const auto count = std::size_t(pyramid[k].rank_offsets[std::size_t(rank) + 1]) - first;
     const auto pixels = exemplar[k].size();
-    colours[k].colours.resize(n);
-    colours[k].pixels.resize(n);
-    for (std::size_t v = 0; v < n; ++v) {
-      const auto pixel = std::size_t(rng.uniform(v, std::uint32_t(k)) * double(pixels));
-      colours[k].pixels[v] = std::int32_t(pixel);
-      colours[k].colours[v] = exemplar[k].data()[pixel];
+    colours[k].colours.resize(count);
+    colours[k].pixels.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto pixel = std::size_t(rng.uniform(first + i, std::uint32_t(k)) * double(pixels));
+      colours[k].pixels[i] = std::int32_t(pixel);
+      colours[k].colours[i] = exemplar[k].data()[pixel];
     }
   }
   return colours;
@@ -88,16 +79,22 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
                                                     : std::span<const ParentFace>(),
                                       layout, first, owned);
     }
+    // Counted before the synthesizer takes the stencils.
+    std::int64_t counts[2] = {stencils->uncovered(),
+                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
     std::optional<LevelSynthesizer> synthesizer;
     {
       auto stage = timers.scope("synthesis");
-      synthesizer.emplace(comm, *stencils, level.rank_offsets, input.exemplar, k, layout,
-                          input.method, input.border);
+      synthesizer.emplace(comm, std::move(*stencils), level.rank_offsets,
+                          has_coarser ? std::span(input.pyramid[K + 1].rank_offsets)
+                                      : std::span<const std::int64_t>(),
+                          input.exemplar, k, layout, input.method, input.border, input.seed);
+      stencils.reset();
+      synthesizer->read_colours(colours[K], has_coarser ? &colours[K + 1] : nullptr);
     }
     report.search_bytes = std::max(report.search_bytes, synthesizer->memory_bytes());
-    const LevelColours* coarser = has_coarser ? &colours[K + 1] : nullptr;
     if (k == 0 && !resume && input.measure_quality)
-      report.random_start_error = synthesizer->neighbourhood_error(colours[0], coarser);
+      report.random_start_error = synthesizer->neighbourhood_error();
     PyramidSynthesisReport::Level level_report;
     level_report.level = k;
     for (const Pass pass : {Pass::extrapolate, Pass::refine}) {
@@ -109,26 +106,22 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
       // Pass 1 on the coarsest level keeps the random colours (Wei-Levoy 3.2).
       if (synthesizer->runs(pass) && !(pass == Pass::extrapolate && !has_coarser)) {
         auto stage = timers.scope("synthesis");
-        const auto order =
-            synthesis_order(comm, *stencils, level.rank_offsets, input.seed, k, pass);
-        level_report.classes[int(pass) - 1] = order.classes;
-        synthesizer->run_pass(pass, order, first_class, colours[K], coarser, [&](std::int32_t c) {
+        const std::int32_t classes = synthesizer->order(pass).classes;
+        level_report.classes[int(pass) - 1] = classes;
+        synthesizer->run_pass(pass, first_class, colours[K], [&](std::int32_t c) {
           if (hooks.after_class)
-            hooks.after_class(k, pass, c, order.classes);
+            hooks.after_class(k, pass, c, classes);
         });
       }
       if (hooks.after_pass)
         hooks.after_pass(k, pass);
     }
-    share_level(comm, level, colours[K]);
-    std::int64_t counts[2] = {stencils->uncovered(),
-                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
     level_report.uncovered_fraction = counts[1] > 0 ? double(counts[0]) / double(counts[1]) : 0;
-    level_report.distinct_colours = distinct_colours(comm, level, colours[K], input.exemplar[K]);
+    level_report.distinct_colours = distinct_colours(comm, colours[K], input.exemplar[K]);
     report.levels.push_back(level_report);
     if (k == 0 && input.measure_quality)
-      report.neighbourhood_error = synthesizer->neighbourhood_error(colours[0], coarser);
+      report.neighbourhood_error = synthesizer->neighbourhood_error();
   }
   return report;
 }

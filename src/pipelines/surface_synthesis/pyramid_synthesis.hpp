@@ -55,13 +55,13 @@ struct PyramidSynthesisReport {
 };
 
 /// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5;
-/// Philox by level and vertex id): the coarsest level keeps them.
+/// Philox by level and vertex id): the coarsest level keeps them. Each level's run of `rank`.
 std::vector<LevelColours> random_start(const std::vector<RetiledLevel>& pyramid,
                                        const std::vector<img::RgbImage>& exemplar,
-                                       std::uint64_t seed);
+                                       std::uint64_t seed, int rank);
 
-/// Synthesises `colours` (from random_start or a checkpoint) from `resume` on (nullopt: from the
-/// start); `timers` gets "stencils" and "synthesis". Collective.
+/// Synthesises `colours` (this rank's runs, from random_start or a checkpoint) from `resume` on
+/// (nullopt: from the start); `timers` gets "stencils" and "synthesis". Collective.
 PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSynthesisInput& input,
                                           std::vector<LevelColours>& colours,
                                           const std::optional<SynthesisPosition>& resume,

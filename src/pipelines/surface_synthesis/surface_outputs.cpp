@@ -8,6 +8,7 @@
 #include "io/parallel_surface_writer.hpp"
 #include "io/textured_obj_writer.hpp"
 #include "par/collective.hpp"
+#include "par/gather_to_root.hpp"
 
 #include <mpi.h>
 
@@ -17,9 +18,10 @@ namespace {
 /// The finest level's colours at every vertex of M_s: linear on the retiled triangle nearest to
 /// each vertex.
 std::vector<img::Rgb> colours_on_surface(const geom::TriangleMesh& surface,
-                                         const RetiledLevel& finest, const LevelColours& colours) {
+                                         const RetiledLevel& finest,
+                                         std::span<const img::Rgb> colours) {
   std::vector<std::vector<double>> channels(3);
-  for (const auto& c : colours.colours)
+  for (const auto& c : colours)
     for (int ch = 0; ch < 3; ++ch)
       channels[std::size_t(ch)].push_back(c[ch]);
   const geom::SurfaceFieldSampler sampler(finest.mesh, std::move(channels));
@@ -65,15 +67,20 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
                                      const SurfaceSynthesisSettings& settings,
                                      const std::filesystem::path& output_dir) {
   SurfaceOutputs outputs;
-  outputs.histogram_distance = img::histogram_distance(
-      {reinterpret_cast<const float*>(colours.colours.data()), 3 * colours.colours.size()},
-      {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()}, 3);
+  // Rank 0, which holds M_s, takes the whole finest level's colours (the runs in rank order are
+  // the vertices in id order).
+  const auto finest_colours = par::gather_to_root(comm, std::span(colours.colours));
+  if (comm.rank == 0)
+    outputs.histogram_distance = img::histogram_distance(
+        {reinterpret_cast<const float*>(finest_colours.data()), 3 * finest_colours.size()},
+        {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()}, 3);
+  MPI_Bcast(&outputs.histogram_distance, 1, MPI_DOUBLE, 0, comm.raw);
 
   std::vector<img::Rgb> on_surface;
   std::vector<double> xyz, colour_values, height;
   std::vector<std::int64_t> triangles;
   if (comm.rank == 0) {
-    on_surface = colours_on_surface(surface, finest, colours);
+    on_surface = colours_on_surface(surface, finest, finest_colours);
     xyz = xyz_of(surface.positions);
     for (const auto& c : on_surface) {
       colour_values.insert(colour_values.end(), {c.r, c.g, c.b});

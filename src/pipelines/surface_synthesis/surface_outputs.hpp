@@ -23,8 +23,8 @@ struct SurfaceOutputs {
 
 /// Writes surface.pvtp (M_s with `color`), atlas.png + textured.obj/.mtl (atlas.resolution > 0)
 /// and displaced.pvtp (displacement.scale > 0) into `output_dir`. Rank 0 does the work on its
-/// `surface` (M_s is rank 0's alone; the others pass an empty mesh); errors reach every rank.
-/// Collective.
+/// `surface` (M_s is rank 0's alone; the others pass an empty mesh) with the finest level's
+/// colours gathered from every rank's run (`colours`); errors reach every rank. Collective.
 SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::TriangleMesh& surface,
                                      const RetiledLevel& finest, const LevelColours& colours,
                                      const img::RgbImage& exemplar,

@@ -201,13 +201,13 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   std::int64_t classes_done = 0;
   if (run.restart) {
     const auto reader = store.resolve_for_restart(*run.restart);
-    par::run_collectively(comm,
-                          [&] { resumed = load_synthesis(reader, pyramid, identity, colours); });
+    par::run_collectively(
+        comm, [&] { resumed = load_synthesis(comm, reader, pyramid, identity, colours); });
     classes_done = reader.step();
     log::info(log::cat("restarted from ", reader.path().string(), " at level ", resumed->level,
                        ", pass ", int(resumed->pass), ", class ", resumed->next_class));
   } else {
-    colours = random_start(pyramid, exemplar, run.seed);
+    colours = random_start(pyramid, exemplar, run.seed, comm.rank);
   }
   LevelFrames frames(
       comm, run.output_dir,

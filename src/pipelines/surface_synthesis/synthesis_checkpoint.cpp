@@ -35,11 +35,13 @@ void save_synthesis(const par::Comm& comm, const io::CheckpointStore& store, std
     const auto first = std::size_t(offsets[std::size_t(rank)]);
     const auto count = std::size_t(offsets[std::size_t(rank) + 1]) - first;
     const auto total = std::uint64_t(offsets.back());
-    const std::span<const float> rgb(
-        reinterpret_cast<const float*>(colours[k].colours.data() + first), 3 * count);
+    TEXSIM_VERIFY(colours[k].colours.size() == count && colours[k].pixels.size() == count,
+                  "level " << k << ": " << colours[k].colours.size() << " colours for a run of "
+                           << count);
+    const std::span<const float> rgb(reinterpret_cast<const float*>(colours[k].colours.data()),
+                                     3 * count);
     writer.write<float>(level_name(k, "colour"), rgb, first, total, 3);
-    writer.write<std::int32_t>(level_name(k, "pixel"),
-                               std::span(colours[k].pixels).subspan(first, count), first, total);
+    writer.write<std::int32_t>(level_name(k, "pixel"), std::span(colours[k].pixels), first, total);
   }
   writer.set_attribute("level", std::int64_t(position.level));
   writer.set_attribute("pass", std::int64_t(position.pass));
@@ -49,7 +51,7 @@ void save_synthesis(const par::Comm& comm, const io::CheckpointStore& store, std
   writer.commit();
 }
 
-SynthesisPosition load_synthesis(const io::CheckpointReader& reader,
+SynthesisPosition load_synthesis(const par::Comm& comm, const io::CheckpointReader& reader,
                                  const std::vector<RetiledLevel>& pyramid,
                                  const SynthesisIdentity& identity,
                                  std::vector<LevelColours>& colours) {
@@ -66,11 +68,14 @@ SynthesisPosition load_synthesis(const io::CheckpointReader& reader,
     if (!reader.has_dataset(level_name(k, "colour")) ||
         reader.global_count(level_name(k, "colour")) != n)
       throw InputError(log::cat(file, ": no colours of level ", k, " with ", n, " vertices"));
-    colours[k].colours.resize(n);
-    colours[k].pixels.resize(n);
+    const auto first = std::uint64_t(pyramid[k].rank_offsets[std::size_t(comm.rank)]);
+    const auto count = std::uint64_t(pyramid[k].rank_offsets[std::size_t(comm.rank) + 1]) - first;
+    colours[k].colours.resize(count);
+    colours[k].pixels.resize(count);
     reader.read<float>(level_name(k, "colour"),
-                       {reinterpret_cast<float*>(colours[k].colours.data()), 3 * n}, 0, n);
-    reader.read<std::int32_t>(level_name(k, "pixel"), colours[k].pixels, 0, n);
+                       {reinterpret_cast<float*>(colours[k].colours.data()), 3 * count}, first,
+                       count);
+    reader.read<std::int32_t>(level_name(k, "pixel"), colours[k].pixels, first, count);
   }
   SynthesisPosition position;
   position.level = int(reader.attribute_int64("level"));

@@ -31,9 +31,9 @@ void save_synthesis(const par::Comm& comm, const io::CheckpointStore& store, std
                     const std::vector<LevelColours>& colours, const SynthesisPosition& position,
                     const SynthesisIdentity& identity);
 
-/// Reads every level's colours (all vertices, on every rank) and the position. Throws InputError
+/// Reads this rank's run of every level's colours and the position. Throws InputError
 /// naming the file when the hierarchy, the exemplar or a level's size does not match. Collective.
-SynthesisPosition load_synthesis(const io::CheckpointReader& reader,
+SynthesisPosition load_synthesis(const par::Comm& comm, const io::CheckpointReader& reader,
                                  const std::vector<RetiledLevel>& pyramid,
                                  const SynthesisIdentity& identity,
                                  std::vector<LevelColours>& colours);
