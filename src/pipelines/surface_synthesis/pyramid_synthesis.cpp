@@ -93,6 +93,10 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
       synthesizer->read_colours(colours[K], has_coarser ? &colours[K + 1] : nullptr);
     }
     report.search_bytes = std::max(report.search_bytes, synthesizer->memory_bytes());
+    std::int64_t halo =
+        std::int64_t(synthesizer->halo().size() + synthesizer->coarser_reads().size());
+    MPI_Allreduce(MPI_IN_PLACE, &halo, 1, MPI_INT64_T, MPI_MAX, comm.raw);
+    report.halo_vertices = std::max(report.halo_vertices, halo);
     if (k == 0 && !resume && input.measure_quality)
       report.random_start_error = synthesizer->neighbourhood_error();
     PyramidSynthesisReport::Level level_report;

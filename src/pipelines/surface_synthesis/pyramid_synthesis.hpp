@@ -52,6 +52,9 @@ struct PyramidSynthesisReport {
   double neighbourhood_error = 0; ///< finest level, after synthesis
   double random_start_error = 0;  ///< finest level before synthesis (fresh runs only)
   std::size_t search_bytes = 0;   ///< largest level's tables and search structures
+  /// Most colours a rank held beside its run on one level (its halo and the coarser vertices it
+  /// read), over ranks and levels.
+  std::int64_t halo_vertices = 0;
 };
 
 /// Every level starts as random copies of its exemplar level's pixels (Wei-Levoy Table 3, line 5;

@@ -287,7 +287,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
   std::int64_t peak = peak_resident_bytes();
   MPI_Allreduce(MPI_IN_PLACE, &peak, 1, MPI_INT64_T, MPI_MAX, comm.raw);
   report.metric("memory", {{"peak_resident_bytes_max_rank", peak},
-                           {"search_bytes_max_level", std::int64_t(synthesis.search_bytes)}});
+                           {"search_bytes_max_level", std::int64_t(synthesis.search_bytes)},
+                           {"halo_vertices_max_rank", synthesis.halo_vertices}});
   report.output(frames.path().string());
   log::info(log::cat("neighbourhood error ", final_error,
                      resumed ? std::string() : log::cat(" (random start ", random_error, ")"),
