@@ -62,7 +62,8 @@ struct StencilPatches {
 #pragma omp parallel
     {
       FlattenedPatch patch;
-      PatchScratch scratch;
+      // One scratch per part: a scratch sized for another mesh is cleared whole on every call.
+      PatchScratch scratch, coarser_scratch;
 #pragma omp for schedule(dynamic, 64)
       for (std::size_t i = 0; i < vertices.size(); ++i) {
         const auto v = std::size_t(vertices[i]);
@@ -81,7 +82,7 @@ struct StencilPatches {
           const std::int32_t face = coarser_part->local_triangle(parents[local].triangle);
           flatten_patch(coarser_part->mesh(), coarser_part->topology(),
                         std::span<const std::int32_t>(&face, 1), frame, coarser_radius, patch,
-                        scratch);
+                        coarser_scratch);
           inside = sample_on_level(*coarser_part, patch, coarser_positions,
                                    {stencils.coarser.data() + local * stencils.coarser_count,
                                     stencils.coarser_count}) &&
