@@ -104,7 +104,7 @@ LevelSynthesizer::LevelSynthesizer(const par::Comm& comm, LevelStencils stencils
     passes_.push_back(std::move(data));
   }
   localise_stencils();
-  find_readers(rank_offsets);
+  find_readers();
 }
 
 LevelSynthesizer::~LevelSynthesizer() = default;
@@ -124,11 +124,11 @@ void LevelSynthesizer::localise_stencils() {
         v = index_in(coarser_reads_, v);
 }
 
-void LevelSynthesizer::find_readers(std::span<const std::int64_t> rank_offsets) {
+void LevelSynthesizer::find_readers() {
   // Tell every owner which of its vertices this rank's stencils read.
   std::vector<std::vector<ReadRequest>> requests(std::size_t(comm_.size));
   for (const std::int64_t v : halo_)
-    requests[std::size_t(par::owner_of(rank_offsets, v))].push_back({v, comm_.rank});
+    requests[std::size_t(par::owner_of(rank_offsets_, v))].push_back({v, comm_.rank});
   auto received = par::exchange_records(comm_, requests);
   std::sort(received.begin(), received.end(), [](const ReadRequest& a, const ReadRequest& b) {
     return std::tie(a.id, a.reader) < std::tie(b.id, b.reader);

@@ -84,7 +84,7 @@ public:
 private:
   struct PassData;
   void localise_stencils();
-  void find_readers(std::span<const std::int64_t> rank_offsets);
+  void find_readers();
   void query(const PassData& data, std::int64_t local, std::vector<double>& out) const;
   void send_class(const std::vector<std::int64_t>& members);
 

@@ -69,27 +69,22 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[K], has_coarser);
     const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
     const std::int64_t owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    std::optional<LevelStencils> stencils;
-    {
+    LevelStencils stencils = [&] {
       auto stage = timers.scope("stencils");
       const bool reads_coarser = has_coarser && !layout.coarser.empty();
-      stencils = build_level_stencils(level, level.normals, input.directions[K],
-                                      reads_coarser ? &input.pyramid[K + 1] : nullptr,
-                                      reads_coarser ? std::span(input.parents[K])
-                                                    : std::span<const ParentFace>(),
-                                      layout, first, owned);
-    }
-    // Counted before the synthesizer takes the stencils.
-    std::int64_t counts[2] = {stencils->uncovered(),
-                              std::int64_t(stencils->current.size() + stencils->coarser.size())};
+      return build_level_stencils(level, level.normals, input.directions[K],
+                                  reads_coarser ? &input.pyramid[K + 1] : nullptr,
+                                  reads_coarser ? std::span(input.parents[K])
+                                                : std::span<const ParentFace>(),
+                                  layout, first, owned);
+    }();
     std::optional<LevelSynthesizer> synthesizer;
     {
       auto stage = timers.scope("synthesis");
-      synthesizer.emplace(comm, std::move(*stencils), level.rank_offsets,
+      synthesizer.emplace(comm, std::move(stencils), level.rank_offsets,
                           has_coarser ? std::span(input.pyramid[K + 1].rank_offsets)
                                       : std::span<const std::int64_t>(),
                           input.exemplar, k, layout, input.method, input.border, input.seed);
-      stencils.reset();
       synthesizer->read_colours(colours[K], has_coarser ? &colours[K + 1] : nullptr);
     }
     report.search_bytes = std::max(report.search_bytes, synthesizer->memory_bytes());
@@ -120,6 +115,9 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
       if (hooks.after_pass)
         hooks.after_pass(k, pass);
     }
+    const LevelStencils& sampled = synthesizer->stencils();
+    std::int64_t counts[2] = {sampled.uncovered(),
+                              std::int64_t(sampled.current.size() + sampled.coarser.size())};
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, comm.raw);
     level_report.uncovered_fraction = counts[1] > 0 ? double(counts[0]) / double(counts[1]) : 0;
     level_report.distinct_colours = distinct_colours(comm, colours[K], input.exemplar[K]);
