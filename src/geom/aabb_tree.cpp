@@ -110,11 +110,10 @@ public:
     return nearest <= best_abs_t_;
   }
 
-  std::optional<ClosestPoint> result(const Line& line) const {
+  std::optional<LineCrossing> result() const {
     if (best_id_ < 0)
       return std::nullopt;
-    return ClosestPoint{line.origin + best_t_ * line.direction, best_id_,
-                        best_abs_t_ * line.direction.norm()};
+    return LineCrossing{best_id_, best_t_};
   }
 
 private:
@@ -155,12 +154,21 @@ ClosestPoint AabbTree::closest_point(const Vec3& query) const {
 
 std::optional<ClosestPoint> AabbTree::nearest_line_hit(const Vec3& origin,
                                                        const Vec3& direction) const {
+  const auto crossing = nearest_line_crossing(origin, direction);
+  if (!crossing)
+    return std::nullopt;
+  return ClosestPoint{origin + crossing->t * direction, crossing->triangle,
+                      std::abs(crossing->t) * direction.norm()};
+}
+
+std::optional<LineCrossing> AabbTree::nearest_line_crossing(const Vec3& origin,
+                                                            const Vec3& direction) const {
   if (direction == Vec3::Zero())
     return std::nullopt;
   const Line line{origin, direction};
   NearestLineHit traits(impl_->triangles.cbegin());
   impl_->tree.traversal(line, traits);
-  return traits.result(line);
+  return traits.result();
 }
 
 } // namespace texsim::geom

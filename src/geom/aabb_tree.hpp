@@ -15,6 +15,12 @@ struct ClosestPoint {
   double distance;       ///< from the query to `point`, model units
 };
 
+/// Where a line crosses a triangle: origin + t * direction.
+struct LineCrossing {
+  std::int32_t triangle; ///< index into the mesh's triangles
+  double t;
+};
+
 /// Bounding-volume hierarchy over a mesh's triangles for projecting points onto the surface. Keeps
 /// a copy of the geometry (the mesh may be destroyed afterwards). Queries are const and may run
 /// concurrently from several threads. Serial build, not collective.
@@ -37,6 +43,10 @@ public:
   /// std::nullopt when the line misses, or `direction` is zero. How Wei-Levoy find a vertex's
   /// parent face on a coarser mesh level (the line along +-n_p). Thread-safe.
   std::optional<ClosestPoint> nearest_line_hit(const Vec3& origin, const Vec3& direction) const;
+  /// The same crossing as the line parameter t (the hit is origin + t * direction), for callers
+  /// that compare hits found in several trees by nearest_line_hit's rule. Thread-safe.
+  std::optional<LineCrossing> nearest_line_crossing(const Vec3& origin,
+                                                    const Vec3& direction) const;
 
 private:
   struct Impl;

@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
+#include "geom/distributed_triangles.hpp"
 #include "geom/generators.hpp"
 #include "geom/mesh_measures.hpp"
 #include "geom/mesh_topology.hpp"
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -359,22 +361,78 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   EXPECT_NE(bytes_of(serial), bytes_of(start));
 }
 
-TEST(ParentFaces, RunsSearchedOnEveryRankGiveTheSerialFaces) {
+/// The serial faces of the run of each rank, from find_parent_faces on the coarse level split
+/// over the ranks with a window of `reach`, byte for byte.
+void expect_serial_faces(std::span<const geom::Vec3> points, std::span<const geom::Vec3> normals,
+                         const geom::TriangleMesh& coarse, double reach) {
+  const auto serial = find_parent_faces(points, normals, coarse, geom::AabbTree(coarse));
+  const par::Comm world = par::world();
+  const auto runs = equal_runs(world, std::int64_t(points.size()));
+  const auto first = std::size_t(runs[world.rank]);
+  const auto count = std::size_t(runs[world.rank + 1]) - first;
+  const auto distributed =
+      find_parent_faces(world, points.subspan(first, count), normals.subspan(first, count),
+                        geom::DistributedTriangles::from_replicated(world, coarse), reach);
+  ASSERT_EQ(distributed.size(), count);
+  for (std::size_t i = 0; i < count; ++i)
+    EXPECT_EQ(std::memcmp(&distributed[i], &serial[first + i], sizeof(ParentFace)), 0)
+        << "point " << first + i << " with reach " << reach;
+}
+
+void expect_serial_faces(const Level& fine, const geom::TriangleMesh& coarse, double reach) {
+  expect_serial_faces(fine.mesh.positions, fine.normals, coarse, reach);
+}
+
+TEST(ParentFaces, RunsSearchedOnWindowsGiveTheSerialFaces) {
   const Level coarse(geom::icosphere(2));
   const Level fine(geom::noisy(geom::icosphere(3), 0.02, 6));
+  const double spacing = geom::mean_edge_length(coarse.mesh);
+  // The usual window; one too narrow to vouch for any hit (every point asks every rank); one
+  // holding the whole level.
+  for (const double reach : {parent_window_reach(spacing), 1e-6, 10.0})
+    expect_serial_faces(fine, coarse.mesh, reach);
   const auto serial = find_parent_faces(fine.mesh.positions, fine.normals, coarse.mesh,
                                         geom::AabbTree(coarse.mesh));
-  const par::Comm world = par::world();
-  const auto runs = equal_runs(world, fine.topology.num_vertices());
-  const auto distributed = find_parent_faces(world, runs, fine.mesh.positions,
-                                             own_run(world, fine.normals), coarse.mesh);
-  const auto first = std::size_t(runs[world.rank]);
-  ASSERT_EQ(distributed.size(), std::size_t(runs[world.rank + 1]) - first);
-  for (std::size_t i = 0; i < distributed.size(); ++i) {
-    ASSERT_TRUE(serial[first + i].found()) << "vertex " << first + i;
-    EXPECT_EQ(std::memcmp(&distributed[i], &serial[first + i], sizeof(ParentFace)), 0)
-        << "vertex " << first + i;
+  EXPECT_TRUE(std::all_of(serial.begin(), serial.end(), [](const auto& p) { return p.found(); }));
+}
+
+TEST(ParentFaces, MissesAndFarHitsOnAnOpenLevelGiveTheSerialFaces) {
+  // A cap of the sphere: lines from the equator miss it, lines from the south cross it far
+  // beyond any window, lines from the north cross it near their points.
+  const Level fine(geom::noisy(geom::icosphere(3), 0.02, 6));
+  geom::TriangleMesh cap = geom::icosphere(2);
+  std::erase_if(cap.triangles, [&](const geom::Triangle& t) {
+    return (cap.positions[t[0]] + cap.positions[t[1]] + cap.positions[t[2]]).z() < 1.5;
+  });
+  const auto serial =
+      find_parent_faces(fine.mesh.positions, fine.normals, cap, geom::AabbTree(cap));
+  std::int64_t misses = 0, far = 0;
+  for (std::size_t v = 0; v < serial.size(); ++v) {
+    misses += !serial[v].found();
+    far += serial[v].found() && fine.mesh.positions[v].z() < 0;
   }
+  ASSERT_GT(misses, 0);
+  ASSERT_GT(far, 0);
+  expect_serial_faces(fine, cap, parent_window_reach(geom::mean_edge_length(cap)));
+}
+
+TEST(ParentFaces, AFarCrossingInTheWindowIsNotTakenForTheNearest) {
+  // Two small parallel triangles over point a, at heights 0.5 and 2. The window of reach 0.05
+  // around a and b (on the upper triangle) holds only the upper one: a's crossing there is
+  // farther than the reach, so the lower triangle, outside the window, must be asked for.
+  geom::TriangleMesh levels;
+  for (const double z : {0.5, 2.0}) {
+    const auto base = std::int32_t(levels.positions.size());
+    levels.positions.insert(
+        levels.positions.end(),
+        {geom::Vec3(-0.1, -0.1, z), geom::Vec3(0.1, -0.1, z), geom::Vec3(0, 0.1, z)});
+    levels.triangles.push_back({base, base + 1, base + 2});
+  }
+  const std::vector<geom::Vec3> points{{0, 0, 0}, {0.05, 0, 2}};
+  const std::vector<geom::Vec3> normals{{0, 0, 1}, {1, 0, 0}};
+  const auto serial = find_parent_faces(points, normals, levels, geom::AabbTree(levels));
+  ASSERT_EQ(serial[0].triangle, 0);
+  expect_serial_faces(points, normals, levels, 0.05);
 }
 
 TEST(OrientationField, InheritedDirectionsReproduceASmoothParentField) {

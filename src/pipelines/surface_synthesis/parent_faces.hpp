@@ -4,6 +4,7 @@
 /// meshes". The coarser part of p's neighbourhood grows from that face, and a finer level's
 /// orientation starts from the directions at its corners.
 #include "geom/aabb_tree.hpp"
+#include "geom/distributed_triangles.hpp"
 #include "par/comm.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 
@@ -22,15 +23,22 @@ std::vector<ParentFace> find_parent_faces(std::span<const geom::Vec3> points,
                                           const geom::TriangleMesh& coarse,
                                           const geom::AabbTree& coarse_tree);
 
-/// The faces of this rank's run [rank_offsets[r], rank_offsets[r + 1]) of the points (vertex
-/// rank_offsets[r] + i at i; `normals` are the run's), searched with the rank's own tree of
-/// `coarse` (dropped on return): the serial call's records for those points, the same bytes. No
-/// rank holds another's run: every reader of a parent face (orientation, stencils) works on its own
-/// vertices. Sends no messages.
-std::vector<ParentFace> find_parent_faces(const par::Comm& comm,
-                                          std::span<const std::int64_t> rank_offsets,
-                                          std::span<const geom::Vec3> points,
+/// Where a rank looks first for its points' parent faces: the triangles of the coarser level
+/// within two of its spacings. A vertex lies within a fraction of a spacing of the coarser surface,
+/// so nearly every hit is found there.
+inline double parent_window_reach(double coarse_spacing) {
+  return 2.0 * coarse_spacing;
+}
+
+/// The faces of this rank's `points` (with their unit `normals`) on the coarser level split over
+/// the ranks: the serial call's records on the whole level, the same bytes. Each rank searches a
+/// window of the level (the triangles within `reach` of its points, DistributedTriangles::window);
+/// a hit nearer than `reach` is the nearest on the whole level, since every nearer crossing lies
+/// within `reach` too. The points it cannot vouch for (a miss, or a hit farther away) go to every
+/// rank, which searches its own share, and the nearest crossing (ties to the smaller triangle id,
+/// as AabbTree) comes back. No rank holds the whole level. Collective.
+std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const geom::Vec3> points,
                                           std::span<const geom::Vec3> normals,
-                                          const geom::TriangleMesh& coarse);
+                                          const geom::DistributedTriangles& coarse, double reach);
 
 } // namespace texsim::pipelines::surface_synthesis
