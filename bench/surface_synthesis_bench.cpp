@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    auto stencils = build_level_stencils(level, level.normals, directions[0], &pyramid[1],
+    auto stencils = build_level_stencils(comm, level, level.normals, directions[0], &pyramid[1],
                                          parents[0], layout, first, owned);
     LevelSynthesizer tsvq(comm, std::move(stencils), level.rank_offsets, pyramid[1].rank_offsets,
                           exemplar, 0, layout, SearchMethod::tsvq, ExemplarBorder::toroidal, 1);

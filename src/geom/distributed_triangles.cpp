@@ -214,12 +214,32 @@ DistributedTriangles DistributedTriangles::from_replicated(const par::Comm& comm
 
 LocalSurface DistributedTriangles::window(const par::Comm& comm, std::span<const Vec3> positions,
                                           double reach) const {
+  // A triangle with a point within `reach` of p has a sample within reach + h of p (below).
+  const double grown = reach + sample_spacing_;
+  // Cells of the grown distance: larger ones make boxes that reach across thin parts and take
+  // far more triangles than the points can walk to.
+  return sampled_window(comm, covering_boxes(positions, grown, grown));
+}
+
+LocalSurface DistributedTriangles::window(const par::Comm& comm,
+                                          std::span<const Box3> boxes) const {
+  // A triangle with a point inside a box has a sample within h of it (below).
+  std::vector<Box3> grown;
+  grown.reserve(boxes.size());
+  for (const Box3& box : boxes)
+    grown.push_back(box.expanded(sample_spacing_));
+  return sampled_window(comm, grown);
+}
+
+LocalSurface DistributedTriangles::sampled_window(const par::Comm& comm,
+                                                  std::span<const Box3> boxes) const {
   // Each triangle stands for points that come within the sampling spacing h of all of its
   // points: its centroid when its longest edge is at most h, else the corners of its split into
   // n^2 similar triangles of edges at most h (a long sliver of a raw scan, which one generous
   // bound for all would make every window the whole mesh). A triangle with a point within
-  // `reach` of p then has a sample within reach + h of p: the other ranks send the triangles of
-  // the samples in boxes grown by that much.
+  // `reach` of p then has a sample within reach + h of p, and one with a point inside a box has
+  // a sample inside the box grown by h: the other ranks send the triangles of the samples in
+  // the boxes.
   std::vector<std::int64_t> sample_ids;
   std::vector<Vec3> samples;
   std::vector<std::int32_t> sample_triangle;
@@ -241,10 +261,6 @@ LocalSurface DistributedTriangles::window(const par::Comm& comm, std::span<const
       for (int j = 0; i + j <= n; ++j)
         add(a + (double(i) / n) * (b - a) + (double(j) / n) * (c - a));
   }
-  const double grown = reach + sample_spacing_;
-  // Cells of the grown distance: larger ones make boxes that reach across thin parts and take
-  // far more triangles than the points can walk to.
-  const auto boxes = covering_boxes(positions, grown, grown);
   const auto near = exchange_point_halo(comm, sample_ids, samples, boxes);
   struct Request {
     std::int32_t requester;

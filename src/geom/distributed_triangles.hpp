@@ -74,6 +74,9 @@ public:
   /// Every triangle (this rank's or another's) that has a point within `reach` of one of
   /// `positions`, and some farther ones. Collective.
   LocalSurface window(const par::Comm& comm, std::span<const Vec3> positions, double reach) const;
+  /// Every triangle that has a point inside one of `boxes` (this rank's, e.g. covering_boxes()),
+  /// and some others. Collective.
+  LocalSurface window(const par::Comm& comm, std::span<const Box3> boxes) const;
 
   /// Points first_id .. first_id + count - 1 of random_surface_points(whole mesh, ..., seed),
   /// the same bits (SurfacePoint::triangle the id in the whole mesh), each returned by the rank
@@ -83,6 +86,9 @@ public:
                                          std::int64_t count, std::uint64_t seed) const;
 
 private:
+  /// The triangles with a sample (window()'s points standing for them) inside one of `boxes`.
+  LocalSurface sampled_window(const par::Comm& comm, std::span<const Box3> boxes) const;
+
   /// A slot of the area prefix sums: the triangle ids [T r / p, T (r + 1) / p) on rank r.
   struct AreaSlot {
     double prefix = 0.0; ///< inclusive prefix sum of the areas in id order

@@ -3,11 +3,13 @@
 // uses only complete triangles of its run's part is the patch the whole level gives, bit for bit,
 // and under 1% do not; an eighth's part holds under half the level; parts narrower than a patch
 // are caught by the completeness check; build_level_stencils (which flattens the escaped patches
-// again on wider parts) gives the whole level's stencils byte for byte; the 1-rings of a run
-// are the topology's.
+// again on wider parts) gives the whole level's stencils byte for byte; a part fetched from the
+// level's split triangles holds exactly the triangles the selection takes on the whole level;
+// the 1-rings of a run are the topology's.
 #include "geom/generators.hpp"
 #include "geom/mesh_reader.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/point_halo.hpp"
 #include "pipelines/surface_synthesis/level_part.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
@@ -72,7 +74,8 @@ RunCheck flatten_by_runs(const RetiledLevel& level, std::span<const geom::Vec3> 
     const std::int64_t first = run_start(level, run), end = run_start(level, run + 1);
     const std::span<const geom::Vec3> centres(level.mesh.positions.data() + first,
                                               std::size_t(end - first));
-    const LevelPart part(level.mesh, centres, growth * patch_reach(radius));
+    const LevelPart part(self(), geom::DistributedTriangles::from_replicated(self(), level.mesh),
+                         centres, growth * patch_reach(radius));
     check.largest_part = std::max<std::int64_t>(check.largest_part, part.mesh().num_triangles());
     for (std::int64_t v = first; v < end; ++v) {
       const auto frame = frame_at(level, directions, v);
@@ -122,7 +125,7 @@ void expect_whole_level_stencils(const RetiledLevel& level,
     const std::int64_t first = run_start(level, run), end = run_start(level, run + 1);
     const auto count = std::size_t(end - first);
     const auto stencils = build_level_stencils(
-        level, std::span(level.normals).subspan(std::size_t(first), count),
+        self(), level, std::span(level.normals).subspan(std::size_t(first), count),
         directions.subspan(std::size_t(first), count), nullptr, {}, layout, first, end - first);
     for (std::int64_t v = first; v < end; ++v) {
       flatten_patch(level.mesh, topology, topology.vertex_triangles().row(std::int32_t(v)),
@@ -160,6 +163,34 @@ TEST(LevelPartOnRealData, PatchesOnTheBunnysRunsAreTheWholeLevelsPatches) {
   if (!std::filesystem::exists(path))
     GTEST_SKIP() << test::missing_data_message("meshes/bunny00.off");
   expect_exact_parts(retiled(geom::read_mesh(path), 24576));
+}
+
+TEST(LevelPart, FetchedPartIsTheSelectionOnTheWholeLevel) {
+  // Every triangle with a corner inside the boxes, and no other; complete where all three are.
+  const RetiledLevel level = retiled(geom::icosphere(4), 6144);
+  const double radius = template_radius(level.spacing);
+  for (const double reach : {patch_reach(radius), 0.2 * patch_reach(radius)}) {
+    const std::int64_t first = run_start(level, 3), end = run_start(level, 4);
+    const std::span<const geom::Vec3> centres(level.mesh.positions.data() + first,
+                                              std::size_t(end - first));
+    const LevelPart part(self(), geom::DistributedTriangles::from_replicated(self(), level.mesh),
+                         centres, reach);
+    const auto near =
+        geom::inside_boxes(level.mesh.positions, geom::covering_boxes(centres, reach, reach));
+    std::int32_t expected = 0;
+    for (std::int32_t t = 0; t < level.mesh.num_triangles(); ++t) {
+      const auto& c = level.mesh.triangles[std::size_t(t)];
+      const int near_corners =
+          near[std::size_t(c[0])] + near[std::size_t(c[1])] + near[std::size_t(c[2])];
+      const std::int32_t local = part.local_triangle(t);
+      EXPECT_EQ(local >= 0, near_corners > 0) << "triangle " << t << ", reach " << reach;
+      if (local < 0)
+        continue;
+      ++expected;
+      EXPECT_EQ(part.complete(local), near_corners == 3) << "triangle " << t;
+    }
+    EXPECT_EQ(part.mesh().num_triangles(), expected) << "reach " << reach;
+  }
 }
 
 TEST(LevelPart, RunRingsAreTheTopologysNeighbours) {

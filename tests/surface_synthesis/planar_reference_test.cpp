@@ -224,7 +224,7 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
   for (int k = 0; k < levels; ++k) {
     const auto layout = NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
     const auto stencils = build_level_stencils(
-        pyramid[std::size_t(k)], pyramid[std::size_t(k)].normals, directions[std::size_t(k)],
+        self, pyramid[std::size_t(k)], pyramid[std::size_t(k)].normals, directions[std::size_t(k)],
         k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout, 0,
         pyramid[std::size_t(k)].mesh.num_vertices());
     if (k == 0) {

@@ -203,7 +203,7 @@ const auto kLayout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
 struct FinestRun {
   explicit FinestRun(const par::Comm& comm)
       : prepared(comm, sphere_pyramid(comm, 2048), Orientation::random), level(prepared.pyramid[0]),
-        stencils(build_level_stencils(level, level.normals, prepared.directions[0],
+        stencils(build_level_stencils(comm, level, level.normals, prepared.directions[0],
                                       &prepared.pyramid[1], prepared.parents[0], kLayout,
                                       level.rank_offsets[std::size_t(comm.rank)],
                                       level.rank_offsets[std::size_t(comm.rank) + 1] -
@@ -302,16 +302,25 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
     const auto run = [&](const auto& all) {
       return std::span(all).subspan(std::size_t(first), std::size_t(owned));
     };
-    return build_level_stencils(level, run(normals), run(directions), &prepared.pyramid[1],
+    return build_level_stencils(comm, level, run(normals), run(directions), &prepared.pyramid[1],
                                 run(parents), kLayout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
-  const auto order = synthesis_order(
-      comm, stencils_of(first, level.rank_offsets[std::size_t(comm.rank) + 1] - first),
-      level.rank_offsets, 3, 0, Pass::refine);
+  const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
+  const auto run_stencils = stencils_of(first, owned);
+  const auto order = synthesis_order(comm, run_stencils, level.rank_offsets, 3, 0, Pass::refine);
   const auto classes = all_classes(comm, level.rank_offsets, order);
 
-  const auto whole = stencils_of(0, n);
+  const auto whole = stencils_of(0, n); // every rank the whole level (collective)
+  // The run's stencils, flattened on parts fetched from the other ranks, are the whole level's.
+  for (std::int64_t i = 0; i < owned; ++i)
+    for (const auto& [found, expected] :
+         {std::pair(run_stencils.current_of(i), whole.current_of(first + i)),
+          std::pair(run_stencils.coarser_of(i), whole.coarser_of(first + i))}) {
+      ASSERT_EQ(found.size(), expected.size());
+      EXPECT_EQ(std::memcmp(found.data(), expected.data(), found.size() * sizeof(SampleWeights)), 0)
+          << "vertex " << first + i;
+    }
   std::vector<std::vector<std::int64_t>> neighbours(static_cast<std::size_t>(n));
   for (std::int64_t u = 0; u < n; ++u)
     for (const auto& sample : whole.current_of(u))

@@ -3,9 +3,11 @@
 /// no rank builds the topology of a whole level. Patches flattened on the part are the patches
 /// the whole level gives as long as they use only complete triangles (every triangle sharing a
 /// corner with them is in the part); the stencils check that for every patch.
+#include "geom/distributed_triangles.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/submesh.hpp"
 #include "geom/triangle_mesh.hpp"
+#include "par/comm.hpp"
 
 #include <cstdint>
 #include <span>
@@ -15,11 +17,14 @@ namespace texsim::pipelines::surface_synthesis {
 
 class LevelPart {
 public:
-  /// The triangles of `level` with a corner within `reach` of one of `centres` (through
-  /// geom::covering_boxes with cells of edge `reach`, so somewhat more), in increasing id order.
-  /// Local vertex ids follow the vertices' ids on the level, so every order (triangles around a
-  /// vertex or an edge, edge ids) is the level's. reach > 0. Serial.
-  LevelPart(const geom::TriangleMesh& level, std::span<const geom::Vec3> centres, double reach);
+  /// The triangles of `level` (split over the ranks) with a corner within `reach` of one of
+  /// `centres` (inside geom::covering_boxes with cells of edge `reach`, so somewhat more), in
+  /// increasing id order, taken from a window of the level around those boxes
+  /// (DistributedTriangles::window), which holds every such triangle: the part is the one the
+  /// whole level gives. Local vertex ids follow the vertices' ids on the level, so every order
+  /// (triangles around a vertex or an edge, edge ids) is the level's. reach > 0. Collective.
+  LevelPart(const par::Comm& comm, const geom::DistributedTriangles& level,
+            std::span<const geom::Vec3> centres, double reach);
 
   const geom::TriangleMesh& mesh() const { return part_.mesh; }
   const geom::MeshTopology& topology() const { return topology_; }

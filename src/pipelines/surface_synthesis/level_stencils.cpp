@@ -34,7 +34,11 @@ bool sample_on_level(const LevelPart& part, const FlattenedPatch& patch,
 
 /// Flattens the stencils' patches on LevelParts of the level and the coarser level.
 struct StencilPatches {
+  const par::Comm& comm;
   const RetiledLevel& level;
+  /// The levels' triangles split over the ranks, which the parts are fetched from.
+  const geom::DistributedTriangles& level_split;
+  const geom::DistributedTriangles* coarser_split;
   std::span<const geom::Vec3> normals, directions;
   const RetiledLevel* coarser;
   std::span<const ParentFace> parents;
@@ -43,20 +47,21 @@ struct StencilPatches {
 
   /// The stencils of `vertices` (ascending) on parts grown `growth` times patch_reach() around
   /// them (and their parent faces); returns the vertices whose patches left their parts' complete
-  /// triangles, whose stencils may differ from those on the whole level.
+  /// triangles, whose stencils may differ from those on the whole level. Collective: every rank
+  /// fetches its parts, with or without vertices.
   std::vector<std::int64_t> flatten(std::span<const std::int64_t> vertices, double growth,
                                     LevelStencils& stencils) const {
     std::vector<geom::Vec3> centres;
     for (const std::int64_t v : vertices)
       centres.push_back(level.mesh.positions[std::size_t(v)]);
-    const LevelPart part(level.mesh, centres, growth * patch_reach(current_radius));
+    const LevelPart part(comm, level_split, centres, growth * patch_reach(current_radius));
     std::optional<LevelPart> coarser_part;
     if (stencils.coarser_count > 0) { // around the vertices and their parent faces' corners
       for (const std::int64_t v : vertices)
         if (const ParentFace& parent = parents[std::size_t(v - stencils.first)]; parent.found())
           for (const std::int32_t u : parent.vertices)
             centres.push_back(coarser->mesh.positions[std::size_t(u)]);
-      coarser_part.emplace(coarser->mesh, centres, growth * patch_reach(coarser_radius));
+      coarser_part.emplace(comm, *coarser_split, centres, growth * patch_reach(coarser_radius));
     }
     std::vector<char> escaped(vertices.size(), 0);
 #pragma omp parallel
@@ -109,7 +114,8 @@ std::int64_t LevelStencils::uncovered() const {
   return count(current) + count(coarser);
 }
 
-LevelStencils build_level_stencils(const RetiledLevel& level, std::span<const geom::Vec3> normals,
+LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& level,
+                                   std::span<const geom::Vec3> normals,
                                    std::span<const geom::Vec3> directions,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
@@ -132,15 +138,35 @@ LevelStencils build_level_stencils(const RetiledLevel& level, std::span<const ge
   const double current_radius = patch_radius(current_positions, d);
   const double coarser_radius = coarser ? patch_radius(coarser_positions, coarser->spacing) : 0;
 
-  const StencilPatches patches{level,         normals,           directions,        coarser,
-                               parents,       current_positions, coarser_positions, current_radius,
+  // Split from the replicated meshes while those remain, and dropped with the parts.
+  const auto level_split = geom::DistributedTriangles::from_replicated(comm, level.mesh);
+  std::optional<geom::DistributedTriangles> coarser_split;
+  if (coarser)
+    coarser_split = geom::DistributedTriangles::from_replicated(comm, coarser->mesh);
+  const StencilPatches patches{comm,
+                               level,
+                               level_split,
+                               coarser_split ? &*coarser_split : nullptr,
+                               normals,
+                               directions,
+                               coarser,
+                               parents,
+                               current_positions,
+                               coarser_positions,
+                               current_radius,
                                coarser_radius};
   std::vector<std::int64_t> pending(static_cast<std::size_t>(owned));
   std::iota(pending.begin(), pending.end(), first);
   // Each round redoes the vertices whose patches left the last round's parts, on parts twice as
-  // wide; a part as wide as the level holds every patch, so the rounds end.
-  for (double growth = 1; !pending.empty(); growth *= 2)
+  // wide; a part as wide as the level holds every patch, so the rounds end. Every rank takes part
+  // in every round (the parts are fetched together), until no rank has vertices left.
+  for (double growth = 1;; growth *= 2) {
+    int left = pending.empty() ? 0 : 1;
+    MPI_Allreduce(MPI_IN_PLACE, &left, 1, MPI_INT, MPI_MAX, comm.raw);
+    if (left == 0)
+      break;
     pending = patches.flatten(pending, growth, stencils);
+  }
   return stencils;
 }
 

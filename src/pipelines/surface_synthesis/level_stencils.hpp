@@ -41,12 +41,14 @@ struct LevelStencils {
 /// at 2d, skipped (uncovered) where no parent face was found. `normals`, `directions` and
 /// `parents` hold one entry per owned vertex (vertex first + i at i). `coarser` may be null when
 /// the layout has no coarser part. The patches are flattened on LevelParts of both levels around
-/// the owned vertices (and their parent faces), built here and dropped on return, so no rank
-/// builds the topology of a whole level; the few vertices whose patches leave their parts'
-/// complete triangles are flattened again on parts twice as wide around them, until none does, so
-/// every stencil is the one the whole level gives. OpenMP over vertices; deterministic. Not
-/// collective.
-LevelStencils build_level_stencils(const RetiledLevel& level, std::span<const geom::Vec3> normals,
+/// the owned vertices (and their parent faces), fetched from the levels' triangles split over
+/// the ranks (geom::DistributedTriangles, made here from the replicated meshes) and dropped on
+/// return, so no rank builds the topology of a whole level; the few vertices whose patches leave
+/// their parts' complete triangles are flattened again on parts twice as wide around them, until
+/// none does on any rank, so every stencil is the one the whole level gives. OpenMP over vertices;
+/// deterministic. Collective.
+LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& level,
+                                   std::span<const geom::Vec3> normals,
                                    std::span<const geom::Vec3> directions,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,
                                    const NeighbourhoodTemplate& layout, std::int64_t first,
