@@ -127,14 +127,7 @@ int main(int argc, char** argv) {
   std::vector<std::vector<ParentFace>> parents(pyramid.size());
   for (std::size_t k = 0; k < pyramid.size(); ++k) {
     if (k + 1 < pyramid.size())
-      parents[k] = find_parent_faces(
-          comm,
-          std::span(pyramid[k].mesh.positions)
-              .subspan(std::size_t(pyramid[k].rank_offsets[std::size_t(comm.rank)]),
-                       pyramid[k].normals.size()),
-          pyramid[k].normals,
-          geom::DistributedTriangles::from_replicated(comm, pyramid[k + 1].mesh),
-          parent_window_reach(pyramid[k + 1].spacing));
+      parents[k] = find_parent_faces(comm, pyramid[k], pyramid[k + 1]);
   }
 
   std::vector<double> relax_s;

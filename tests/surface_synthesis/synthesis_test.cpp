@@ -53,11 +53,7 @@ struct Prepared {
       const auto count = std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first);
       const auto& normals = pyramid[K].normals; // this rank's run
       if (k + 1 < n)
-        parents[K] = find_parent_faces(
-            comm, std::span(pyramid[K].mesh.positions).subspan(std::size_t(first), count),
-            pyramid[K].normals,
-            geom::DistributedTriangles::from_replicated(comm, pyramid[K + 1].mesh),
-            parent_window_reach(pyramid[K + 1].spacing));
+        parents[K] = find_parent_faces(comm, pyramid[K], pyramid[K + 1]);
       const auto random = random_directions(normals, 5, k, first);
       directions[K] = random;
       if (orientation == Orientation::parallels) {

@@ -140,4 +140,13 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const
   return parents;
 }
 
+std::vector<ParentFace> find_parent_faces(const par::Comm& comm, const RetiledLevel& level,
+                                          const RetiledLevel& coarser) {
+  const auto first = std::size_t(level.rank_offsets[std::size_t(comm.rank)]);
+  return find_parent_faces(
+      comm, std::span(level.mesh.positions).subspan(first, level.normals.size()), level.normals,
+      geom::DistributedTriangles::from_replicated(comm, coarser.mesh),
+      parent_window_reach(coarser.spacing));
+}
+
 } // namespace texsim::pipelines::surface_synthesis

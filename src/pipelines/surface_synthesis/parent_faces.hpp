@@ -6,6 +6,7 @@
 #include "geom/aabb_tree.hpp"
 #include "geom/distributed_triangles.hpp"
 #include "par/comm.hpp"
+#include "pipelines/surface_synthesis/mesh_pyramid.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 
 #include <cstdint>
@@ -40,5 +41,11 @@ inline double parent_window_reach(double coarse_spacing) {
 std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const geom::Vec3> points,
                                           std::span<const geom::Vec3> normals,
                                           const geom::DistributedTriangles& coarse, double reach);
+
+/// The same for this rank's run of `level` on `coarser`, with windows of
+/// parent_window_reach(coarser.spacing) of a split made from the coarser level's replicated mesh
+/// while those remain (dropped on return). Collective.
+std::vector<ParentFace> find_parent_faces(const par::Comm& comm, const RetiledLevel& level,
+                                          const RetiledLevel& coarser);
 
 } // namespace texsim::pipelines::surface_synthesis

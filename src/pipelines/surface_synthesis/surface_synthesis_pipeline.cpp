@@ -139,11 +139,7 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       const std::int64_t first = level.rank_offsets[std::size_t(comm.rank)];
       const auto& normals = level.normals; // this rank's run
       if (k + 1 < levels)                  // each rank searches and keeps its own run
-        parents[std::size_t(k)] = find_parent_faces(
-            comm, std::span(level.mesh.positions).subspan(std::size_t(first), normals.size()),
-            normals,
-            geom::DistributedTriangles::from_replicated(comm, pyramid[std::size_t(k) + 1].mesh),
-            parent_window_reach(pyramid[std::size_t(k) + 1].spacing));
+        parents[std::size_t(k)] = find_parent_faces(comm, level, pyramid[std::size_t(k) + 1]);
       auto& s = directions[std::size_t(k)]; // this rank's run
       const auto random = random_directions(normals, run.seed, k, first);
       if (orientation.mode == OrientationMode::random) {
