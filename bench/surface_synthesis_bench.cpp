@@ -19,6 +19,7 @@
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 
 #include <mpi.h>
 #include <nlohmann/json.hpp>
@@ -87,7 +88,7 @@ std::vector<std::vector<geom::Vec3>> relaxed(const Comm& comm,
                                     directions[K + 1], pyramid[K + 1].normals);
       directions[K] = inherited_directions(normals, *coarser, 2, random);
     }
-    relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, normals,
+    relax_directions(comm, pyramid[K].rank_offsets, run_rings(pyramid[K], comm.rank), normals,
                      coarser ? &*coarser : nullptr, 2, sweeps, directions[K]);
   }
   return directions;
@@ -178,8 +179,8 @@ int main(int argc, char** argv) {
     const auto layout = NeighbourhoodTemplate::from_shape(input.shapes[0], pyramid.size() > 1);
     const auto first = level.rank_offsets[std::size_t(comm.rank)];
     const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
-    auto stencils = build_level_stencils(comm, level, level.normals, directions[0], &pyramid[1],
-                                         parents[0], layout, first, owned);
+    auto stencils = build_level_stencils(comm, level, level.positions, level.normals, directions[0],
+                                         &pyramid[1], parents[0], layout, first, owned);
     LevelSynthesizer tsvq(comm, std::move(stencils), level.rank_offsets, pyramid[1].rank_offsets,
                           exemplar, 0, layout, SearchMethod::tsvq, ExemplarBorder::toroidal, 1);
     tsvq.read_colours(tsvq_colours[0], &tsvq_colours[1]);
@@ -197,7 +198,7 @@ int main(int argc, char** argv) {
 
   out["ranks"] = comm.size;
   out["vertices"] = settings.vertices;
-  out["triangles"] = pyramid[0].mesh.num_triangles();
+  out["triangles"] = pyramid[0].triangle_count();
   out["levels"] = settings.levels;
   out["exemplar"] = fallback ? "lattice 64" : settings.exemplar;
   out["exemplar_fallback"] = fallback;

@@ -5,6 +5,7 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/random_surface_points.hpp"
+#include "par/gather_to_root.hpp"
 #include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -75,15 +77,6 @@ struct WholeMesh {
   }
 };
 
-/// `received` after `kept`: taken over whole when `kept` is empty.
-template <typename Record>
-void append_received(std::vector<Record>& kept, std::vector<Record>&& received) {
-  if (kept.empty())
-    kept = std::move(received);
-  else
-    kept.insert(kept.end(), received.begin(), received.end());
-}
-
 } // namespace
 
 std::array<double, 9> corners_of(const TriangleMesh& mesh, std::size_t t) {
@@ -102,74 +95,130 @@ std::int32_t LocalSurface::local_triangle(std::int64_t id) const {
 LocalSurface LocalSurface::from_records(std::vector<TriangleRecord> records) {
   std::sort(records.begin(), records.end(),
             [](const TriangleRecord& a, const TriangleRecord& b) { return a.id < b.id; });
+  std::vector<std::int64_t> ids;
+  std::vector<std::array<std::int64_t, 3>> corners;
+  std::vector<EdgeFlags> creases;
+  for (const auto& r : records) {
+    ids.push_back(r.id);
+    corners.push_back(r.vertex);
+    creases.push_back(r.creases);
+  }
+  return assemble(std::move(ids), corners, std::move(creases),
+                  [&](std::size_t k, int c) { return corner(records[k].corners, c); });
+}
+
+LocalSurface LocalSurface::assemble(std::vector<std::int64_t> ids,
+                                    std::span<const std::array<std::int64_t, 3>> corners,
+                                    std::vector<EdgeFlags> creases,
+                                    const std::function<Vec3(std::size_t, int)>& corner_position) {
   LocalSurface local;
-  for (const auto& r : records)
-    local.vertex_ids.insert(local.vertex_ids.end(), r.vertex.begin(), r.vertex.end());
+  for (const auto& triangle : corners)
+    local.vertex_ids.insert(local.vertex_ids.end(), triangle.begin(), triangle.end());
   std::sort(local.vertex_ids.begin(), local.vertex_ids.end());
   local.vertex_ids.erase(std::unique(local.vertex_ids.begin(), local.vertex_ids.end()),
                          local.vertex_ids.end());
   local.vertex_ids.shrink_to_fit();
   local.mesh.positions.resize(local.vertex_ids.size());
-  for (const auto& r : records) {
-    TEXSIM_VERIFY(local.triangle_ids.empty() || local.triangle_ids.back() != r.id,
-                  "LocalSurface: triangle " << r.id << " given twice");
+  local.mesh.triangles.reserve(corners.size());
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    TEXSIM_VERIFY(k == 0 || ids[k - 1] < ids[k],
+                  "LocalSurface: triangle " << ids[k] << " given twice or out of order");
     Triangle triangle{};
     for (int c = 0; c < 3; ++c) {
       triangle[c] = std::int32_t(
-          std::lower_bound(local.vertex_ids.begin(), local.vertex_ids.end(), r.vertex[c]) -
+          std::lower_bound(local.vertex_ids.begin(), local.vertex_ids.end(), corners[k][c]) -
           local.vertex_ids.begin());
-      // Every record of a vertex carries the same position bits (the whole mesh's).
-      local.mesh.positions[std::size_t(triangle[c])] = corner(r.corners, c);
+      local.mesh.positions[std::size_t(triangle[c])] = corner_position(k, c);
     }
     local.mesh.triangles.push_back(triangle);
-    local.triangle_ids.push_back(r.id);
-    local.triangle_creases.push_back(r.creases);
   }
+  local.triangle_ids = std::move(ids);
+  local.triangle_creases = std::move(creases);
   return local;
+}
+
+TriangleRecord DistributedTriangles::owned_record(std::size_t k) const {
+  TriangleRecord r;
+  r.id = share_.triangle_ids[k];
+  for (int c = 0; c < 3; ++c) {
+    const auto local = std::size_t(share_.mesh.triangles[k][c]);
+    r.vertex[c] = share_.vertex_ids[local];
+    for (int axis = 0; axis < 3; ++axis)
+      r.corners[3 * c + axis] = share_.mesh.positions[local][axis];
+  }
+  r.creases = share_.triangle_creases[k];
+  return r;
 }
 
 DistributedTriangles DistributedTriangles::from_root(const par::Comm& comm,
                                                      const TriangleMesh& root_mesh,
-                                                     std::span<const char> root_creases) {
+                                                     std::span<const char> root_creases,
+                                                     Sampling sampling) {
   DistributedTriangles split;
-  std::vector<std::vector<TriangleRecord>> records(comm.size);
-  std::vector<std::vector<AreaSlot>> slots(comm.size);
   std::array<std::int64_t, 2> counts{};
   // count, last positive; total area, longest edge, bounds (6), each rank's last prefix sum, the
   // sampling spacing
   std::vector<double> values(9 + std::size_t(comm.size));
+  std::optional<WholeMesh> whole;
+  std::vector<std::vector<std::int32_t>> members(comm.size); // each rank's triangles, on rank 0
+  const auto triangles = std::int64_t(root_mesh.triangles.size());
   if (comm.is_root()) {
-    const WholeMesh whole(root_mesh, root_creases, comm.size);
-    const auto triangles = std::int64_t(root_mesh.triangles.size());
-    for (std::size_t t = 0; t < whole.part.size(); ++t)
-      records[whole.part[t]].push_back(whole.record(t));
+    whole.emplace(root_mesh, root_creases, comm.size);
+    for (std::size_t t = 0; t < whole->part.size(); ++t)
+      members[whole->part[t]].push_back(std::int32_t(t));
     for (int r = 0; r < comm.size; ++r) {
       const std::int64_t begin = slot_begin(triangles, r, comm.size);
       const std::int64_t end = slot_begin(triangles, r + 1, comm.size);
-      for (std::int64_t t = begin; t < end; ++t)
-        slots[r].push_back({whole.prefix[t], corners_of(root_mesh, std::size_t(t))});
       values[8 + r] =
-          end > begin ? whole.prefix[end - 1] : -std::numeric_limits<double>::infinity();
+          end > begin ? whole->prefix[end - 1] : -std::numeric_limits<double>::infinity();
     }
-    counts = {triangles, whole.last_positive};
+    counts = {triangles, whole->last_positive};
     const Box3 bounds = Box3::around(root_mesh.positions);
-    values[0] = whole.prefix.empty() ? 0.0 : whole.prefix.back();
-    std::tie(values[1], values[8 + comm.size]) = whole.edge_lengths();
+    values[0] = whole->prefix.empty() ? 0.0 : whole->prefix.back();
+    std::tie(values[1], values[8 + comm.size]) = whole->edge_lengths();
     for (int axis = 0; axis < 3; ++axis) {
       values[2 + axis] = bounds.lo[axis];
       values[5 + axis] = bounds.hi[axis];
     }
   }
-  // Rank 0 keeps its own share and slots instead of sending them to itself: the exchange copies
-  // what it sends twice, which at one rank was the whole mesh. The other ranks keep what they
-  // receive as it came (appending it one by one held it twice, and more while the list grew).
-  split.owned_ = std::move(records[comm.rank]);
-  records[comm.rank].clear();
-  append_received(split.owned_, par::exchange_records(comm, records));
-  records = {};
-  split.slots_ = std::move(slots[comm.rank]);
-  slots[comm.rank].clear();
-  append_received(split.slots_, par::exchange_records(comm, slots));
+  // Rank 0 makes one rank's records (or slots) at a time and sends them before making the next:
+  // all ranks' records at once were 112 bytes a triangle of the whole mesh on rank 0. Its own
+  // share it takes straight from the mesh.
+  auto received = par::scatter_from_root<TriangleRecord>(comm, [&](int r) {
+    std::vector<TriangleRecord> part;
+    if (r == comm.rank)
+      return part;
+    part.reserve(members[r].size());
+    for (const std::int32_t t : members[r])
+      part.push_back(whole->record(std::size_t(t)));
+    return part;
+  });
+  if (comm.is_root()) {
+    const std::vector<std::int32_t>& own = members[comm.rank];
+    std::vector<std::int64_t> ids(own.begin(), own.end());
+    std::vector<std::array<std::int64_t, 3>> corners;
+    std::vector<EdgeFlags> creases;
+    for (const std::int32_t t : own) {
+      const Triangle& c = root_mesh.triangles[std::size_t(t)];
+      corners.push_back({c[0], c[1], c[2]});
+      creases.push_back(whole->creases.empty() ? EdgeFlags{} : whole->creases[std::size_t(t)]);
+    }
+    split.share_ = LocalSurface::assemble(
+        std::move(ids), corners, std::move(creases), [&](std::size_t k, int c) {
+          return root_mesh.positions[std::size_t(root_mesh.triangles[std::size_t(own[k])][c])];
+        });
+  } else {
+    split.share_ = LocalSurface::from_records(std::move(received));
+  }
+  split.sampling_ = sampling == Sampling::area;
+  if (split.sampling_)
+    split.slots_ = par::scatter_from_root<AreaSlot>(comm, [&](int r) {
+      std::vector<AreaSlot> part;
+      for (std::int64_t t = slot_begin(triangles, r, comm.size);
+           t < slot_begin(triangles, r + 1, comm.size); ++t)
+        part.push_back({whole->prefix[t], corners_of(root_mesh, std::size_t(t))});
+      return part;
+    });
   MPI_Bcast(counts.data(), 2, MPI_INT64_T, 0, comm.raw);
   MPI_Bcast(values.data(), int(values.size()), MPI_DOUBLE, 0, comm.raw);
   split.global_count_ = counts[0];
@@ -191,9 +240,12 @@ DistributedTriangles DistributedTriangles::from_replicated(const par::Comm& comm
   // Every rank knows the whole mesh: each takes its own share, with no messages.
   DistributedTriangles split;
   const WholeMesh whole(mesh, {}, comm.size);
+  std::vector<TriangleRecord> owned;
   for (std::size_t t = 0; t < whole.part.size(); ++t)
     if (whole.part[t] == comm.rank)
-      split.owned_.push_back(whole.record(t));
+      owned.push_back(whole.record(t));
+  split.share_ = LocalSurface::from_records(std::move(owned));
+  split.sampling_ = true;
   split.global_count_ = std::int64_t(mesh.triangles.size());
   split.last_positive_ = whole.last_positive;
   split.total_area_ = whole.prefix.empty() ? 0.0 : whole.prefix.back();
@@ -243,9 +295,11 @@ LocalSurface DistributedTriangles::sampled_window(const par::Comm& comm,
   std::vector<std::int64_t> sample_ids;
   std::vector<Vec3> samples;
   std::vector<std::int32_t> sample_triangle;
-  for (std::size_t k = 0; k < owned_.size(); ++k) {
-    const auto& r = owned_[k];
-    const Vec3 a = corner(r.corners, 0), b = corner(r.corners, 1), c = corner(r.corners, 2);
+  const TriangleMesh& share = share_.mesh;
+  for (std::size_t k = 0; k < share.triangles.size(); ++k) {
+    const Vec3& a = share.positions[std::size_t(share.triangles[k][0])];
+    const Vec3& b = share.positions[std::size_t(share.triangles[k][1])];
+    const Vec3& c = share.positions[std::size_t(share.triangles[k][2])];
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
     const auto add = [&](const Vec3& sample) {
       sample_ids.push_back(std::int64_t(sample_ids.size()) * comm.size + comm.rank); // unique
@@ -277,16 +331,16 @@ LocalSurface DistributedTriangles::sampled_window(const par::Comm& comm,
   asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
   std::vector<std::vector<TriangleRecord>> replies(comm.size);
   for (const auto& [requester, k] : asked)
-    replies[requester].push_back(owned_[std::size_t(k)]);
+    replies[requester].push_back(owned_record(std::size_t(k)));
   auto records = par::exchange_records(comm, replies);
   // This rank's own triangles by the same test.
   const auto inside = inside_boxes(samples, boxes);
-  std::vector<char> taken(owned_.size(), 0);
+  std::vector<char> taken(owned_count(), 0);
   for (std::size_t k = 0; k < samples.size(); ++k)
     taken[std::size_t(sample_triangle[k])] |= inside[k];
-  for (std::size_t k = 0; k < owned_.size(); ++k)
+  for (std::size_t k = 0; k < taken.size(); ++k)
     if (taken[k])
-      records.push_back(owned_[k]);
+      records.push_back(owned_record(k));
   return LocalSurface::from_records(std::move(records));
 }
 
@@ -294,6 +348,7 @@ DistributedSurfacePoints DistributedTriangles::random_points(const par::Comm& co
                                                              std::int64_t first_id,
                                                              std::int64_t count,
                                                              std::uint64_t seed) const {
+  TEXSIM_VERIFY(sampling_, "DistributedTriangles::random_points on a split without area slots");
   TEXSIM_VERIFY(last_positive_ >= 0 && total_area_ > 0.0,
                 "AreaSampler: the mesh has no triangle of positive area (" << global_count_
                                                                            << " triangles)");

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -45,16 +46,27 @@ struct LocalSurface {
   std::int32_t local_triangle(std::int64_t id) const;
   /// Builds the copy from records with unique ids (any order).
   static LocalSurface from_records(std::vector<TriangleRecord> records);
+  /// Builds the copy of triangles `ids` (increasing) of the whole mesh, with their corners'
+  /// ids and crease flags; `corner_position(k, c)` gives corner c of triangle k's position
+  /// (every corner of a vertex the same bits). Needs no 112-byte records.
+  static LocalSurface assemble(std::vector<std::int64_t> ids,
+                               std::span<const std::array<std::int64_t, 3>> corners,
+                               std::vector<EdgeFlags> creases,
+                               const std::function<Vec3(std::size_t, int)>& corner_position);
 };
 
 class DistributedTriangles {
 public:
+  /// Whether a split keeps the area prefix sums random_points() reads (80 bytes a triangle).
+  enum class Sampling { area, none };
+
   /// Splits `root_mesh`, held by rank 0 (the others pass an empty mesh), with its crease flags
   /// (per edge of MeshTopology(root_mesh), empty for none). Rank 0 also sums the area (the
-  /// serial sum of total_area) and the area prefix sums of the random placement, so both are the
-  /// bits of the whole mesh's. Collective.
+  /// serial sum of total_area) and, with Sampling::area, the area prefix sums of the random
+  /// placement, so both are the bits of the whole mesh's. Collective.
   static DistributedTriangles from_root(const par::Comm& comm, const TriangleMesh& root_mesh,
-                                        std::span<const char> root_creases = {});
+                                        std::span<const char> root_creases = {},
+                                        Sampling sampling = Sampling::area);
   /// The same from a mesh that every rank holds whole (each keeps its share). Collective.
   static DistributedTriangles from_replicated(const par::Comm& comm, const TriangleMesh& mesh);
 
@@ -67,9 +79,12 @@ public:
   /// The longest triangle edge of the whole mesh.
   double longest_edge() const { return longest_edge_; }
 
-  /// This rank's share, by increasing id.
-  std::span<const TriangleRecord> owned() const { return owned_; }
-  LocalSurface owned_surface() const { return LocalSurface::from_records(owned_); }
+  /// This rank's share, by increasing id (held as a LocalSurface: about 40 bytes a triangle
+  /// instead of a 112-byte record).
+  const LocalSurface& owned_surface() const { return share_; }
+  std::size_t owned_count() const { return share_.triangle_ids.size(); }
+  /// Triangle k of this rank's share as it travels.
+  TriangleRecord owned_record(std::size_t k) const;
 
   /// Every triangle (this rank's or another's) that has a point within `reach` of one of
   /// `positions`, and some farther ones. Collective.
@@ -81,7 +96,7 @@ public:
   /// Points first_id .. first_id + count - 1 of random_surface_points(whole mesh, ..., seed),
   /// the same bits (SurfacePoint::triangle the id in the whole mesh), each returned by the rank
   /// holding its triangle's slot of the area prefix sums: the ids ask across the ranks, no rank
-  /// holds all prefix sums. Collective.
+  /// holds all prefix sums. Only for a split with Sampling::area. Collective.
   DistributedSurfacePoints random_points(const par::Comm& comm, std::int64_t first_id,
                                          std::int64_t count, std::uint64_t seed) const;
 
@@ -99,7 +114,8 @@ private:
   double total_area_ = 0.0;
   Box3 bounds_;
   double longest_edge_ = 0.0;
-  std::vector<TriangleRecord> owned_;
+  LocalSurface share_;
+  bool sampling_ = false;           ///< whether the area slots are kept
   std::int64_t slots_begin_ = 0;    ///< id of this rank's first slot
   std::vector<AreaSlot> slots_;     ///< this rank's slots
   std::vector<double> slot_last_;   ///< per rank: its last prefix sum (-inf when it has none)

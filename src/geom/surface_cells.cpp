@@ -83,7 +83,7 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Box3& 
 void SurfaceCells::build_view(const par::Comm& comm, const DistributedTriangles& surface,
                               double halo, bool keep_polygons) {
   // This rank's share of the triangles, numbered in the whole mesh's order.
-  const LocalSurface share = surface.owned_surface();
+  const LocalSurface& share = surface.owned_surface();
   const TriangleMesh& mesh = share.mesh;
   std::vector<std::int32_t> local_triangles(share.triangle_ids.size());
   std::iota(local_triangles.begin(), local_triangles.end(), 0);

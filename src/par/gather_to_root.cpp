@@ -49,4 +49,29 @@ std::vector<std::byte> gather_to_root(const Comm& comm, std::span<const std::byt
   return all;
 }
 
+void send_part(const Comm& comm, int destination, std::span<const std::byte> bytes,
+               std::size_t max_message) {
+  constexpr int kTag = 7302;
+  const std::uint64_t size = bytes.size();
+  MPI_Send(&size, 1, MPI_UINT64_T, destination, kTag, comm.raw);
+  for (std::size_t at = 0; at < bytes.size(); at += max_message)
+    MPI_Send(bytes.data() + at, static_cast<int>(std::min(max_message, bytes.size() - at)),
+             MPI_BYTE, destination, kTag, comm.raw);
+}
+
+std::uint64_t receive_part_size(const Comm& comm, int source) {
+  constexpr int kTag = 7302;
+  std::uint64_t size = 0;
+  MPI_Recv(&size, 1, MPI_UINT64_T, source, kTag, comm.raw, MPI_STATUS_IGNORE);
+  return size;
+}
+
+void receive_part(const Comm& comm, int source, std::span<std::byte> into,
+                  std::size_t max_message) {
+  constexpr int kTag = 7302;
+  for (std::size_t at = 0; at < into.size(); at += max_message)
+    MPI_Recv(into.data() + at, static_cast<int>(std::min(max_message, into.size() - at)), MPI_BYTE,
+             source, kTag, comm.raw, MPI_STATUS_IGNORE);
+}
+
 } // namespace texsim::par

@@ -1,10 +1,12 @@
 #pragma once
-/// Gathering arrays of any size on one rank. MPI counts are int, so MPI_Gatherv cannot move more
-/// than 2^31 - 1 elements per rank (a 1024^3 volume of 3-int coordinates already needs 3.2 G);
-/// here each rank's part travels as point-to-point messages of at most `max_message` bytes.
+/// Gathering arrays of any size on one rank, and scattering them from it. MPI counts are int, so
+/// MPI_Gatherv cannot move more than 2^31 - 1 elements per rank (a 1024^3 volume of 3-int
+/// coordinates already needs 3.2 G); here each rank's part travels as point-to-point messages of at
+/// most `max_message` bytes.
 #include "par/comm.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <span>
@@ -38,6 +40,33 @@ std::vector<T> gather_to_root(const Comm& comm, std::span<const T> mine, int roo
   if (!bytes.empty())
     std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
+}
+
+/// Raw parts of scatter_from_root: the size, then messages of at most `max_message` bytes.
+void send_part(const Comm& comm, int destination, std::span<const std::byte> bytes,
+               std::size_t max_message);
+std::uint64_t receive_part_size(const Comm& comm, int source);
+void receive_part(const Comm& comm, int source, std::span<std::byte> into, std::size_t max_message);
+
+/// The inverse of stream_to_root: on `root`, `produce(rank)` makes one rank's part at a time (the
+/// other ranks' in rank order, its own last), and each part is sent and freed before the next is
+/// made, so the root holds one part besides its own, not all of them. Returns this rank's part.
+/// Collective.
+template <class T, class Produce>
+std::vector<T> scatter_from_root(const Comm& comm, const Produce& produce, int root = 0,
+                                 std::size_t max_message = kMaxGatherMessage) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  if (comm.rank != root) {
+    std::vector<T> mine(receive_part_size(comm, root) / sizeof(T));
+    receive_part(comm, root, std::as_writable_bytes(std::span(mine)), max_message);
+    return mine;
+  }
+  for (int rank = 0; rank < comm.size; ++rank)
+    if (rank != root) {
+      const std::vector<T> part = produce(rank);
+      send_part(comm, rank, std::as_bytes(std::span(part)), max_message);
+    }
+  return produce(root);
 }
 
 } // namespace texsim::par

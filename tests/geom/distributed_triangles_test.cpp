@@ -52,7 +52,8 @@ void expect_shares_of(const TriangleMesh& mesh) {
     const Box3 box = Box3::around(mesh.positions);
     EXPECT_TRUE(same_bits(box.lo, split->bounds().lo) && same_bits(box.hi, split->bounds().hi));
     std::vector<std::int64_t> ids;
-    for (const auto& r : split->owned()) {
+    for (std::size_t k = 0; k < split->owned_count(); ++k) {
+      const TriangleRecord r = split->owned_record(k);
       ids.push_back(r.id);
       for (int c = 0; c < 3; ++c) {
         ASSERT_EQ(r.vertex[c], mesh.triangles[std::size_t(r.id)][c]);
@@ -69,12 +70,7 @@ void expect_shares_of(const TriangleMesh& mesh) {
     for (std::size_t t = 0; t < all.size(); ++t)
       ASSERT_EQ(all[t], std::int64_t(t)) << "every triangle owned exactly once";
   }
-  std::vector<std::int64_t> a, b;
-  for (const auto& r : from_root.owned())
-    a.push_back(r.id);
-  for (const auto& r : replicated.owned())
-    b.push_back(r.id);
-  EXPECT_EQ(a, b);
+  EXPECT_EQ(from_root.owned_surface().triangle_ids, replicated.owned_surface().triangle_ids);
 }
 
 TEST(DistributedTriangles, SharesCoverTheMeshOnce) {
@@ -117,8 +113,8 @@ void expect_window_of(const TriangleMesh& mesh, double reach) {
   // This rank's positions: the centroids of every seventh triangle of its share (a compact
   // region, like the points a rank relaxes).
   std::vector<Vec3> positions;
-  for (std::size_t k = 0; k < split.owned().size(); k += 7) {
-    const auto& r = split.owned()[k];
+  for (std::size_t k = 0; k < split.owned_count(); k += 7) {
+    const TriangleRecord r = split.owned_record(k);
     positions.push_back((corner(r, 0) + corner(r, 1) + corner(r, 2)) / 3.0);
   }
   const LocalSurface window = split.window(comm, positions, reach);

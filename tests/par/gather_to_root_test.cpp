@@ -1,6 +1,7 @@
 // gather_to_root: every rank's elements arrive on the root in rank order, whatever the message
 // size (here down to 7 bytes, which splits elements across messages), whichever rank is root,
-// and with ranks that contribute nothing; stream_to_root hands the parts over one by one.
+// and with ranks that contribute nothing; stream_to_root hands the parts over one by one;
+// scatter_from_root sends each rank its part, the root making them one at a time, its own last.
 #include "par/gather_to_root.hpp"
 
 #include <gtest/gtest.h>
@@ -59,6 +60,32 @@ TEST(StreamToRoot, HandsEachRanksPartOverAloneInRankOrder) {
   for (int r = 0; r < comm.size; ++r)
     all_ranks.push_back(r);
   EXPECT_EQ(ranks_seen, comm.rank == root ? all_ranks : std::vector<int>{});
+}
+
+TEST(ScatterFromRoot, EachRankGetsItsPartAndTheRootMakesThemOneAtATime) {
+  const Comm comm = world();
+  for (const int root : {0, comm.size - 1})
+    for (const std::size_t message : {std::size_t{7}, std::size_t{64}, kMaxGatherMessage}) {
+      std::vector<int> made; // on the root: the ranks whose parts it made, in order
+      const auto mine = scatter_from_root<std::int32_t>(
+          comm,
+          [&](int rank) {
+            made.push_back(rank);
+            return contribution(rank);
+          },
+          root, message);
+      EXPECT_EQ(mine, contribution(comm.rank)) << "root " << root << ", messages of " << message;
+      if (comm.rank == root) {
+        std::vector<int> expected;
+        for (int r = 0; r < comm.size; ++r)
+          if (r != root)
+            expected.push_back(r);
+        expected.push_back(root);
+        EXPECT_EQ(made, expected);
+      } else {
+        EXPECT_TRUE(made.empty());
+      }
+    }
 }
 
 TEST(GatherToRoot, EmptyEverywhereGivesEmpty) {

@@ -15,6 +15,7 @@
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 #include "pipelines/surface_synthesis/patch_flattening.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 #include "support/test_data.hpp"
 
 #include <gtest/gtest.h>
@@ -45,14 +46,14 @@ RetiledLevel retiled(const geom::TriangleMesh& surface, std::int64_t vertices) {
 }
 
 std::int64_t run_start(const RetiledLevel& level, int run) {
-  return std::int64_t(level.mesh.num_vertices()) * run / kRuns;
+  return level.vertex_count() * run / kRuns;
 }
 
 TangentFrame frame_at(const RetiledLevel& level, std::span<const geom::Vec3> directions,
                       std::int64_t v) {
   const auto V = std::size_t(v);
   const geom::Vec3& n = level.normals[V];
-  return {level.mesh.positions[V], directions[V], n.cross(directions[V]), n};
+  return {level.positions[V], directions[V], n.cross(directions[V]), n};
 }
 
 struct RunCheck {
@@ -65,22 +66,22 @@ struct RunCheck {
 /// only, both must be the same bits (ids mapped back to the level's).
 RunCheck flatten_by_runs(const RetiledLevel& level, std::span<const geom::Vec3> directions,
                          double growth, int runs = kRuns) {
-  const geom::MeshTopology topology(level.mesh);
+  const geom::TriangleMesh mesh = gather_level_mesh(self(), level);
+  const geom::MeshTopology topology(mesh);
   const double radius = template_radius(level.spacing);
   RunCheck check;
   FlattenedPatch whole, local;
   PatchScratch whole_scratch, local_scratch;
   for (int run = 0; run < runs; ++run) {
     const std::int64_t first = run_start(level, run), end = run_start(level, run + 1);
-    const std::span<const geom::Vec3> centres(level.mesh.positions.data() + first,
+    const std::span<const geom::Vec3> centres(level.positions.data() + first,
                                               std::size_t(end - first));
-    const LevelPart part(self(), geom::DistributedTriangles::from_replicated(self(), level.mesh),
-                         centres, growth * patch_reach(radius));
+    const LevelPart part(self(), level.triangles, centres, growth * patch_reach(radius));
     check.largest_part = std::max<std::int64_t>(check.largest_part, part.mesh().num_triangles());
     for (std::int64_t v = first; v < end; ++v) {
       const auto frame = frame_at(level, directions, v);
-      flatten_patch(level.mesh, topology, topology.vertex_triangles().row(std::int32_t(v)), frame,
-                    radius, whole, whole_scratch);
+      flatten_patch(mesh, topology, topology.vertex_triangles().row(std::int32_t(v)), frame, radius,
+                    whole, whole_scratch);
       const std::int32_t local_v = part.local_vertex(std::int32_t(v));
       EXPECT_GE(local_v, 0) << "vertex " << v << " is a centre of its part";
       if (local_v < 0)
@@ -117,7 +118,8 @@ void expect_whole_level_stencils(const RetiledLevel& level,
                                  std::span<const geom::Vec3> directions) {
   const auto layout = NeighbourhoodTemplate::from_shape({7, 7, 2}, false);
   const auto positions = layout.current_positions(level.spacing);
-  const geom::MeshTopology topology(level.mesh);
+  const geom::TriangleMesh mesh = gather_level_mesh(self(), level);
+  const geom::MeshTopology topology(mesh);
   FlattenedPatch patch;
   PatchScratch scratch;
   std::vector<SampleWeights> expected(positions.size());
@@ -125,10 +127,11 @@ void expect_whole_level_stencils(const RetiledLevel& level,
     const std::int64_t first = run_start(level, run), end = run_start(level, run + 1);
     const auto count = std::size_t(end - first);
     const auto stencils = build_level_stencils(
-        self(), level, std::span(level.normals).subspan(std::size_t(first), count),
+        self(), level, std::span(level.positions).subspan(std::size_t(first), count),
+        std::span(level.normals).subspan(std::size_t(first), count),
         directions.subspan(std::size_t(first), count), nullptr, {}, layout, first, end - first);
     for (std::int64_t v = first; v < end; ++v) {
-      flatten_patch(level.mesh, topology, topology.vertex_triangles().row(std::int32_t(v)),
+      flatten_patch(mesh, topology, topology.vertex_triangles().row(std::int32_t(v)),
                     frame_at(level, directions, v), template_radius(level.spacing), patch, scratch);
       sample_patch(patch, positions, expected);
       const auto found = stencils.current_of(v - first);
@@ -143,10 +146,10 @@ void expect_whole_level_stencils(const RetiledLevel& level,
 void expect_exact_parts(const RetiledLevel& level) {
   const auto directions = random_directions(level.normals, 3, 0);
   const auto check = flatten_by_runs(level, directions, 1.0);
-  const auto vertices = level.mesh.num_vertices();
+  const auto vertices = level.vertex_count();
   EXPECT_LT(check.patches_beyond_part, vertices / 100) << "of " << vertices << " patches";
-  EXPECT_LT(check.largest_part, level.mesh.num_triangles() / 2)
-      << "an eighth's part holds " << check.largest_part << " of " << level.mesh.num_triangles()
+  EXPECT_LT(check.largest_part, level.triangle_count() / 2)
+      << "an eighth's part holds " << check.largest_part << " of " << level.triangle_count()
       << " triangles";
   // Parts narrower than a patch leave patches that need triangles the parts lack, and the
   // completeness check sees them.
@@ -168,18 +171,18 @@ TEST(LevelPartOnRealData, PatchesOnTheBunnysRunsAreTheWholeLevelsPatches) {
 TEST(LevelPart, FetchedPartIsTheSelectionOnTheWholeLevel) {
   // Every triangle with a corner inside the boxes, and no other; complete where all three are.
   const RetiledLevel level = retiled(geom::icosphere(4), 6144);
+  const geom::TriangleMesh mesh = gather_level_mesh(self(), level);
   const double radius = template_radius(level.spacing);
   for (const double reach : {patch_reach(radius), 0.2 * patch_reach(radius)}) {
     const std::int64_t first = run_start(level, 3), end = run_start(level, 4);
-    const std::span<const geom::Vec3> centres(level.mesh.positions.data() + first,
+    const std::span<const geom::Vec3> centres(level.positions.data() + first,
                                               std::size_t(end - first));
-    const LevelPart part(self(), geom::DistributedTriangles::from_replicated(self(), level.mesh),
-                         centres, reach);
+    const LevelPart part(self(), level.triangles, centres, reach);
     const auto near =
-        geom::inside_boxes(level.mesh.positions, geom::covering_boxes(centres, reach, reach));
+        geom::inside_boxes(mesh.positions, geom::covering_boxes(centres, reach, reach));
     std::int32_t expected = 0;
-    for (std::int32_t t = 0; t < level.mesh.num_triangles(); ++t) {
-      const auto& c = level.mesh.triangles[std::size_t(t)];
+    for (std::int32_t t = 0; t < mesh.num_triangles(); ++t) {
+      const auto& c = mesh.triangles[std::size_t(t)];
       const int near_corners =
           near[std::size_t(c[0])] + near[std::size_t(c[1])] + near[std::size_t(c[2])];
       const std::int32_t local = part.local_triangle(t);
@@ -194,10 +197,10 @@ TEST(LevelPart, FetchedPartIsTheSelectionOnTheWholeLevel) {
 }
 
 TEST(LevelPart, RunRingsAreTheTopologysNeighbours) {
-  const auto level = retiled(geom::icosphere(3), 600);
-  const geom::MeshTopology topology(level.mesh);
+  const auto mesh = gather_level_mesh(self(), retiled(geom::icosphere(3), 600));
+  const geom::MeshTopology topology(mesh);
   const std::int64_t first = 150, count = 200;
-  const auto rings = run_rings(level.mesh, first, count);
+  const auto rings = run_rings(mesh, first, count);
   ASSERT_EQ(rings.rows(), count);
   for (std::int64_t i = 0; i < count; ++i) {
     const auto expected = topology.vertex_neighbors().row(std::int32_t(first + i));

@@ -13,6 +13,7 @@
 #include "pipelines/surface_synthesis/orientation_field.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 #include "support/gather_by_id.hpp"
 
 #include <gtest/gtest.h>
@@ -46,6 +47,12 @@ std::vector<std::int64_t> equal_runs(const par::Comm& comm, std::int64_t count) 
   for (int r = 0; r <= comm.size; ++r)
     offsets[r] = count * r / comm.size;
   return offsets;
+}
+
+/// The 1-rings of this rank's run of `level` under equal_runs.
+geom::CsrAdjacency own_rings(const par::Comm& comm, const Level& level) {
+  const auto runs = equal_runs(comm, level.topology.num_vertices());
+  return run_rings(level.mesh, runs[comm.rank], runs[comm.rank + 1] - runs[comm.rank]);
 }
 
 /// This rank's run of per-vertex `records` under equal_runs.
@@ -202,7 +209,7 @@ TEST(OrientationRelaxation, FirstUpdateMatchesAFineScan) {
       const double theta = scanned_minimiser(angles, symmetry);
       auto directions = start;
       const par::Comm self = test::self_comm();
-      relax_directions(self, equal_runs(self, fine.topology.num_vertices()), fine.mesh,
+      relax_directions(self, equal_runs(self, fine.topology.num_vertices()), own_rings(self, fine),
                        fine.normals, parent_level, symmetry, 1, directions);
       const double moved = signed_angle(start[0], directions[0], fine.normals[0]);
       EXPECT_LE(std::abs(symmetric_residue(moved - theta, symmetry)), 0.01 * kDegree)
@@ -222,9 +229,9 @@ TEST(OrientationRelaxation, EnergyNeverRises) {
   for (const int symmetry : {1, 2, 4})
     for (const CoarserOrientation* parent_level : {&coarser, (const CoarserOrientation*)nullptr}) {
       auto directions = own_run(world, random_directions(fine.normals, 21, 1));
-      const RelaxationReport report =
-          relax_directions(world, equal_runs(world, fine.topology.num_vertices()), fine.mesh,
-                           own_run(world, fine.normals), parent_level, symmetry, 30, directions);
+      const RelaxationReport report = relax_directions(
+          world, equal_runs(world, fine.topology.num_vertices()), own_rings(world, fine),
+          own_run(world, fine.normals), parent_level, symmetry, 30, directions);
       ASSERT_EQ(report.energy.size(), 31u);
       EXPECT_GE(report.colour_classes, 4);
       EXPECT_LT(report.energy.back(), 0.2 * report.energy.front());
@@ -259,13 +266,13 @@ TEST(OrientationRelaxation, QuarterTurnsAreFixedForFourWayOnly) {
   const par::Comm world = par::world();
   const auto runs = equal_runs(world, grid.topology.num_vertices());
   auto four_way = own_run(world, start);
-  const auto fixed = relax_directions(world, runs, grid.mesh, own_run(world, grid.normals), nullptr,
-                                      4, 5, four_way);
+  const auto fixed = relax_directions(world, runs, own_rings(world, grid),
+                                      own_run(world, grid.normals), nullptr, 4, 5, four_way);
   EXPECT_LT(fixed.energy.front(), 1e-20);
   four_way = whole_level(world, four_way, grid.topology.num_vertices());
   auto two_way = own_run(world, start);
-  const auto moved = relax_directions(world, runs, grid.mesh, own_run(world, grid.normals), nullptr,
-                                      2, 5, two_way);
+  const auto moved = relax_directions(world, runs, own_rings(world, grid),
+                                      own_run(world, grid.normals), nullptr, 2, 5, two_way);
   EXPECT_LT(moved.energy.back(), 0.5 * moved.energy.front());
   two_way = whole_level(world, two_way, grid.topology.num_vertices());
   double largest_four = 0.0;
@@ -312,8 +319,9 @@ TEST(OrientationRelaxation, RelaxedSphereIsSmoothAlmostEverywhere) {
       coarser = coarser_orientation(parents, coarse_directions, coarse->normals);
       directions = inherited_directions(own_run(world, level->normals), *coarser, 2, directions);
     }
-    relax_directions(world, equal_runs(world, count), level->mesh, own_run(world, level->normals),
-                     coarser ? &*coarser : nullptr, 2, 30, directions);
+    relax_directions(world, equal_runs(world, count), own_rings(world, *level),
+                     own_run(world, level->normals), coarser ? &*coarser : nullptr, 2, 30,
+                     directions);
     coarse = std::move(level);
     coarse_directions = whole_level(world, directions, count);
   }
@@ -342,17 +350,17 @@ TEST(OrientationRelaxation, SameBitsOnAnyRankAndThreadCount) {
   const auto run_parents = own_run(world, parents);
   const auto coarser_run = coarser_orientation(run_parents, coarse_directions, coarse.normals);
   const auto distributed_report =
-      relax_directions(world, equal_runs(world, count), fine.mesh, own_run(world, fine.normals),
-                       &coarser_run, 2, 10, distributed);
+      relax_directions(world, equal_runs(world, count), own_rings(world, fine),
+                       own_run(world, fine.normals), &coarser_run, 2, 10, distributed);
   distributed = whole_level(world, distributed, count);
   auto serial = start;
-  const auto serial_report = relax_directions(self, equal_runs(self, count), fine.mesh,
+  const auto serial_report = relax_directions(self, equal_runs(self, count), own_rings(self, fine),
                                               fine.normals, &coarser, 2, 10, serial);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(3);
   auto threaded = start;
-  relax_directions(self, equal_runs(self, count), fine.mesh, fine.normals, &coarser, 2, 10,
-                   threaded);
+  relax_directions(self, equal_runs(self, count), own_rings(self, fine), fine.normals, &coarser, 2,
+                   10, threaded);
   omp_set_num_threads(threads);
   EXPECT_EQ(bytes_of(threaded), bytes_of(serial));
   EXPECT_EQ(bytes_of(distributed), bytes_of(serial));

@@ -27,21 +27,24 @@ constexpr double kSpacing = 0.25;
 
 /// Grid vertex (i, j) = id j * side + i at (i h, -j h, 0): image x to the right, y down, seen from
 /// +z with s = +x and t = +y. Quads split along (i, j)-(i+1, j+1), counter-clockwise from +z.
-RetiledLevel grid_level(int side, double h) {
-  RetiledLevel level;
+geom::TriangleMesh grid_mesh(int side, double h) {
+  geom::TriangleMesh mesh;
   for (int j = 0; j < side; ++j)
     for (int i = 0; i < side; ++i)
-      level.mesh.positions.emplace_back(i * h, -j * h, 0.0);
+      mesh.positions.emplace_back(i * h, -j * h, 0.0);
   const auto id = [&](int i, int j) { return std::int32_t(j * side + i); };
   for (int j = 0; j + 1 < side; ++j)
     for (int i = 0; i + 1 < side; ++i) {
-      level.mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
-      level.mesh.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+      mesh.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
     }
-  level.normals.assign(level.mesh.positions.size(), geom::Vec3(0, 0, 1));
-  level.rank_offsets = {0, std::int64_t(level.mesh.positions.size())};
-  level.spacing = h;
-  return level;
+  return mesh;
+}
+
+/// The grid as a level on one rank: normals +z and spacing h (sqrt(2 h^2 / 2)).
+RetiledLevel grid_level(const geom::TriangleMesh& grid) {
+  const par::Comm self{MPI_COMM_SELF, 0, 1};
+  return distribute_level(self, grid, {0, std::int64_t(grid.positions.size())});
 }
 
 img::RgbImage random_exemplar(int size) {
@@ -193,18 +196,20 @@ struct GridPyramid {
   std::vector<std::vector<ParentFace>> parents;
 
   GridPyramid(int levels, int finest_side) {
+    std::vector<geom::TriangleMesh> grids;
     for (int k = 0; k < levels; ++k) {
       sides.push_back((finest_side - 1) / (1 << k) + 1);
-      pyramid.push_back(grid_level(sides.back(), kSpacing * (1 << k)));
+      grids.push_back(grid_mesh(sides.back(), kSpacing * (1 << k)));
+      pyramid.push_back(grid_level(grids.back()));
     }
     parents.resize(std::size_t(levels));
     for (int k = 0; k < levels; ++k) {
-      directions.emplace_back(pyramid[std::size_t(k)].mesh.positions.size(), geom::Vec3(1, 0, 0));
+      directions.emplace_back(grids[std::size_t(k)].positions.size(), geom::Vec3(1, 0, 0));
       if (k + 1 < levels) {
-        const geom::AabbTree tree(pyramid[std::size_t(k) + 1].mesh);
-        parents[std::size_t(k)] = find_parent_faces(pyramid[std::size_t(k)].mesh.positions,
-                                                    pyramid[std::size_t(k)].normals,
-                                                    pyramid[std::size_t(k) + 1].mesh, tree);
+        const geom::AabbTree tree(grids[std::size_t(k) + 1]);
+        parents[std::size_t(k)] =
+            find_parent_faces(grids[std::size_t(k)].positions, pyramid[std::size_t(k)].normals,
+                              grids[std::size_t(k) + 1], tree);
       }
     }
   }
@@ -223,14 +228,15 @@ void expect_same_picks_as_planar(int levels, std::vector<NeighbourhoodShape> sha
   std::vector<std::vector<std::int32_t>> pass2_classes(static_cast<std::size_t>(levels));
   for (int k = 0; k < levels; ++k) {
     const auto layout = NeighbourhoodTemplate::from_shape(shapes[std::size_t(k)], k + 1 < levels);
+    const RetiledLevel& level = pyramid[std::size_t(k)];
     const auto stencils = build_level_stencils(
-        self, pyramid[std::size_t(k)], pyramid[std::size_t(k)].normals, directions[std::size_t(k)],
+        self, level, level.positions, level.normals, directions[std::size_t(k)],
         k + 1 < levels ? &pyramid[std::size_t(k) + 1] : nullptr, parents[std::size_t(k)], layout, 0,
-        pyramid[std::size_t(k)].mesh.num_vertices());
+        level.vertex_count());
     if (k == 0) {
       EXPECT_GT(stencils.uncovered(), 0) << "the grid's border leaves samples uncovered";
     }
-    const std::vector<std::int64_t> one_run{0, pyramid[std::size_t(k)].mesh.num_vertices()};
+    const std::vector<std::int64_t> one_run{0, level.vertex_count()};
     pass2_classes[std::size_t(k)] =
         synthesis_order(self, stencils, one_run, input.seed, k, Pass::refine).owned_class;
   }

@@ -4,15 +4,17 @@
 // on a sphere, below a fifth with an exactly periodic lattice exemplar on a flat grid; with a
 // stripe exemplar, relaxed orientation beats random orientation, and s along the parallels lays
 // the stripes along them (the luminance varies along the meridians).
+#include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
-#include "par/allgather_runs.hpp"
 #include "pipelines/surface_synthesis/exemplar_pyramid.hpp"
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 #include "pipelines/surface_synthesis/level_synthesizer.hpp"
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 #include "pipelines/surface_synthesis/synthesis_order.hpp"
+#include "whole_level.hpp"
 
 #include <gtest/gtest.h>
 
@@ -49,8 +51,7 @@ struct Prepared {
     directions.resize(std::size_t(n));
     for (int k = n - 1; k >= 0; --k) {
       const auto K = std::size_t(k);
-      const std::int64_t first = pyramid[K].rank_offsets[std::size_t(comm.rank)];
-      const auto count = std::size_t(pyramid[K].rank_offsets[std::size_t(comm.rank) + 1] - first);
+      const std::int64_t first = pyramid[K].run_begin(comm.rank);
       const auto& normals = pyramid[K].normals; // this rank's run
       if (k + 1 < n)
         parents[K] = find_parent_faces(comm, pyramid[K], pyramid[K + 1]);
@@ -58,8 +59,7 @@ struct Prepared {
       directions[K] = random;
       if (orientation == Orientation::parallels) {
         std::vector<geom::Vec3> field;
-        for (const auto& p :
-             std::span(pyramid[K].mesh.positions).subspan(std::size_t(first), count))
+        for (const auto& p : pyramid[K].positions)
           field.emplace_back(-p.y(), p.x(), 0.0);
         directions[K] = projected_directions(normals, field, nullptr);
       }
@@ -71,8 +71,9 @@ struct Prepared {
                                       directions[K + 1], pyramid[K + 1].normals);
         directions[K] = inherited_directions(normals, *coarser, kSymmetry, random);
       }
-      relax_directions(comm, pyramid[K].rank_offsets, pyramid[K].mesh, pyramid[K].normals,
-                       coarser ? &*coarser : nullptr, kSymmetry, 30, directions[K]);
+      relax_directions(comm, pyramid[K].rank_offsets, run_rings(pyramid[K], comm.rank),
+                       pyramid[K].normals, coarser ? &*coarser : nullptr, kSymmetry, 30,
+                       directions[K]);
     }
   }
 
@@ -120,16 +121,16 @@ std::vector<img::RgbImage> stripes(int levels) {
 /// the triangle's area; triangles within about 17 degrees of a pole, where m turns fast, are left
 /// out. 1 for colour a function of latitude alone (stripes along the parallels), about 1/2 for
 /// no preferred direction.
-double meridian_alignment(const RetiledLevel& level, const LevelColours& colours) {
+double meridian_alignment(const geom::TriangleMesh& level, const LevelColours& colours) {
   const auto luminance = [&](std::int32_t v) {
     const img::Rgb& c = colours.colours[std::size_t(v)];
     return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
   };
   double along = 0, total = 0;
-  for (const auto& t : level.mesh.triangles) {
-    const geom::Vec3 &a = level.mesh.positions[std::size_t(t[0])],
-                     &b = level.mesh.positions[std::size_t(t[1])],
-                     &c = level.mesh.positions[std::size_t(t[2])];
+  for (const auto& t : level.triangles) {
+    const geom::Vec3 &a = level.positions[std::size_t(t[0])],
+                     &b = level.positions[std::size_t(t[1])],
+                     &c = level.positions[std::size_t(t[2])];
     const geom::Vec3 e1 = b - a, e2 = c - a, n = e1.cross(e2);
     const geom::Vec3 gradient = (n.cross(e2) * (luminance(t[1]) - luminance(t[0])) +
                                  e1.cross(n) * (luminance(t[2]) - luminance(t[0]))) /
@@ -199,8 +200,9 @@ const auto kLayout = NeighbourhoodTemplate::from_shape({7, 7, 2}, true);
 struct FinestRun {
   explicit FinestRun(const par::Comm& comm)
       : prepared(comm, sphere_pyramid(comm, 2048), Orientation::random), level(prepared.pyramid[0]),
-        stencils(build_level_stencils(comm, level, level.normals, prepared.directions[0],
-                                      &prepared.pyramid[1], prepared.parents[0], kLayout,
+        stencils(build_level_stencils(comm, level, level.positions, level.normals,
+                                      prepared.directions[0], &prepared.pyramid[1],
+                                      prepared.parents[0], kLayout,
                                       level.rank_offsets[std::size_t(comm.rank)],
                                       level.rank_offsets[std::size_t(comm.rank) + 1] -
                                           level.rank_offsets[std::size_t(comm.rank)])) {}
@@ -237,7 +239,7 @@ TEST(Synthesis, HaloIsWhatTheStencilsRead) {
             std::vector<std::int64_t>(coarser_read.begin(), coarser_read.end()));
   if (comm.size > 1) {
     EXPECT_GT(halo.size(), 0u);
-    EXPECT_LT(std::int64_t(halo.size()), level.mesh.num_vertices() - owned);
+    EXPECT_LT(std::int64_t(halo.size()), level.vertex_count() - owned);
   }
   const auto& local = synthesizer.stencils();
   ASSERT_EQ(local.current.size(), stencils.current.size());
@@ -282,24 +284,21 @@ TEST(Synthesis, ClassesAreTheSequentialGreedyColouring) {
   const par::Comm comm = par::world();
   const Prepared prepared(comm, sphere_pyramid(comm, 2048), Orientation::random);
   const auto& level = prepared.pyramid[0];
-  const auto n = level.mesh.num_vertices();
-  // The whole level's normals, directions and parent faces, for the whole level's stencils below.
-  const auto whole_level = [&](const std::vector<geom::Vec3>& run) {
-    std::vector<geom::Vec3> all(static_cast<std::size_t>(n));
-    std::copy(run.begin(), run.end(), all.begin() + level.rank_offsets[std::size_t(comm.rank)]);
-    par::allgather_runs(comm, level.rank_offsets, all.data(), 3, MPI_DOUBLE);
-    return all;
-  };
-  const auto normals = whole_level(level.normals);
-  const auto directions = whole_level(prepared.directions[0]);
-  const auto parents = find_parent_faces(level.mesh.positions, normals, prepared.pyramid[1].mesh,
-                                         geom::AabbTree(prepared.pyramid[1].mesh));
+  const auto n = level.vertex_count();
+  // The whole level's positions, normals, directions and parent faces, for the whole level's
+  // stencils below.
+  const auto positions = whole_runs(comm, level, level.positions);
+  const auto normals = whole_runs(comm, level, level.normals);
+  const auto directions = whole_runs(comm, level, prepared.directions[0]);
+  const auto coarser_mesh = whole_level_mesh(comm, prepared.pyramid[1]);
+  const auto parents =
+      find_parent_faces(positions, normals, coarser_mesh, geom::AabbTree(coarser_mesh));
   const auto stencils_of = [&](std::int64_t first, std::int64_t owned) {
     const auto run = [&](const auto& all) {
       return std::span(all).subspan(std::size_t(first), std::size_t(owned));
     };
-    return build_level_stencils(comm, level, run(normals), run(directions), &prepared.pyramid[1],
-                                run(parents), kLayout, first, owned);
+    return build_level_stencils(comm, level, run(positions), run(normals), run(directions),
+                                &prepared.pyramid[1], run(parents), kLayout, first, owned);
   };
   const auto first = level.rank_offsets[std::size_t(comm.rank)];
   const auto owned = level.rank_offsets[std::size_t(comm.rank) + 1] - first;
@@ -381,8 +380,9 @@ TEST(Synthesis, StripesFollowTheirOrientation) {
 
   EXPECT_LT(relaxed_run.report.neighbourhood_error, at_random.report.neighbourhood_error);
 
-  const double aligned = meridian_alignment(parallels.pyramid.front(), along_field.colours.front());
-  const double unaligned = meridian_alignment(random.pyramid.front(), at_random.colours.front());
+  const auto finest = whole_level_mesh(comm, random.pyramid.front());
+  const double aligned = meridian_alignment(finest, along_field.colours.front());
+  const double unaligned = meridian_alignment(finest, at_random.colours.front());
   // The exemplar varies along its y axis, t = n x s: with s along the parallels, along the
   // meridians. Random s leaves no preferred direction.
   EXPECT_GT(aligned, 0.7) << "random orientation: " << unaligned;

@@ -27,28 +27,32 @@ LevelFrames::LevelFrames(const par::Comm& comm, const std::filesystem::path& out
 
 void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& retiled,
                         std::span<const geom::Vec3> directions, const LevelColours& colours) {
-  const std::int64_t first = retiled.rank_offsets[std::size_t(comm_.rank)];
-  const std::int64_t end = retiled.rank_offsets[std::size_t(comm_.rank) + 1];
-  std::vector<std::int32_t> local_of(retiled.mesh.positions.size(), -1);
-  std::vector<std::int64_t> triangles;
-  std::vector<std::int32_t> used;
-  for (const auto& t : retiled.mesh.triangles) {
-    const std::int32_t smallest = std::min({t[0], t[1], t[2]});
-    if (smallest < first || smallest >= end)
-      continue;
-    for (const auto v : t)
-      if (local_of[std::size_t(v)] < 0) {
-        local_of[std::size_t(v)] = 0;
-        used.push_back(v);
-      }
+  // Each rank writes the triangles whose smallest corner is in its run, from its run's star.
+  const std::int64_t first = retiled.run_begin(comm_.rank);
+  const std::int64_t end = retiled.run_begin(comm_.rank + 1);
+  const geom::LocalSurface& star = retiled.star;
+  const auto global = [&](std::int32_t local) { return star.vertex_ids[std::size_t(local)]; };
+  std::vector<char> kept(star.mesh.triangles.size(), 0), corner(star.vertex_ids.size(), 0);
+  for (std::size_t t = 0; t < kept.size(); ++t) {
+    const auto& c = star.mesh.triangles[t];
+    // Local ids follow the level's, so the smallest local corner is the smallest on the level.
+    const std::int64_t smallest = global(std::min({c[0], c[1], c[2]}));
+    kept[t] = smallest >= first && smallest < end;
+    if (kept[t])
+      for (const auto v : c)
+        corner[std::size_t(v)] = 1;
   }
-  std::sort(used.begin(), used.end());
-  for (std::size_t i = 0; i < used.size(); ++i)
-    local_of[std::size_t(used[i])] = std::int32_t(i);
-  for (const auto& t : retiled.mesh.triangles)
-    if (const std::int32_t smallest = std::min({t[0], t[1], t[2]});
-        smallest >= first && smallest < end)
-      for (const auto v : t)
+  std::vector<std::int32_t> used; // star-local, so in increasing order of the level's ids
+  std::vector<std::int32_t> local_of(corner.size(), -1);
+  for (std::size_t v = 0; v < corner.size(); ++v)
+    if (corner[v]) {
+      local_of[v] = std::int32_t(used.size());
+      used.push_back(std::int32_t(v));
+    }
+  std::vector<std::int64_t> triangles;
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    if (kept[t])
+      for (const auto v : star.mesh.triangles[t])
         triangles.push_back(local_of[std::size_t(v)]);
 
   // The corners' directions and colours, from their owners.
@@ -60,19 +64,20 @@ void LevelFrames::write(int levels, int level, Pass pass, const RetiledLevel& re
   for (std::size_t i = 0; i < directions.size(); ++i)
     run_values.push_back(
         {{directions[i].x(), directions[i].y(), directions[i].z()}, colours.colours[i]});
-  const std::vector<std::int64_t> ids(used.begin(), used.end());
+  std::vector<std::int64_t> ids;
+  for (const std::int32_t v : used)
+    ids.push_back(global(v));
   const auto used_values = par::fetch_from_owners(comm_, retiled.rank_offsets, std::span(ids),
                                                   std::span<const CornerValues>(run_values));
   std::vector<double> xyz, colour, s;
   std::vector<std::int32_t> owner;
   for (std::size_t i = 0; i < used.size(); ++i) {
-    const auto v = std::size_t(used[i]);
-    const auto& p = retiled.mesh.positions[v];
+    const auto& p = star.mesh.positions[std::size_t(used[i])];
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
     const auto& c = used_values[i].colour;
     colour.insert(colour.end(), {c.r, c.g, c.b});
     s.insert(s.end(), std::begin(used_values[i].s), std::end(used_values[i].s));
-    owner.push_back(par::owner_of(retiled.rank_offsets, std::int64_t(v)));
+    owner.push_back(par::owner_of(retiled.rank_offsets, ids[i]));
   }
   io::SurfacePiece piece{xyz, triangles, {}, {}};
   piece.point_fields = {{"color", 3, std::span<const double>(colour)},

@@ -77,35 +77,4 @@ double patch_reach(double patch_radius) {
   return 2.0 * patch_radius;
 }
 
-geom::CsrAdjacency run_rings(const geom::TriangleMesh& mesh, std::int64_t first,
-                             std::int64_t count) {
-  const auto in_run = [&](std::int32_t v) { return v >= first && v < first + count; };
-  std::vector<std::int64_t> starts(std::size_t(count) + 1, 0);
-  for (const geom::Triangle& corners : mesh.triangles)
-    for (const std::int32_t v : corners)
-      if (in_run(v))
-        starts[std::size_t(v - first) + 1] += 2;
-  for (std::size_t i = 1; i < starts.size(); ++i)
-    starts[i] += starts[i - 1];
-  std::vector<std::int32_t> listed(std::size_t(starts.back()));
-  std::vector<std::int64_t> cursor(starts.begin(), starts.end() - 1);
-  for (const geom::Triangle& corners : mesh.triangles)
-    for (int c = 0; c < 3; ++c)
-      if (const std::int32_t v = corners[std::size_t(c)]; in_run(v)) {
-        auto& at = cursor[std::size_t(v - first)];
-        listed[std::size_t(at++)] = corners[std::size_t((c + 1) % 3)];
-        listed[std::size_t(at++)] = corners[std::size_t((c + 2) % 3)];
-      }
-  geom::CsrAdjacency rings;
-  rings.offsets.push_back(0);
-  for (std::int64_t i = 0; i < count; ++i) {
-    const auto begin = listed.begin() + starts[std::size_t(i)];
-    const auto end = listed.begin() + starts[std::size_t(i) + 1];
-    std::sort(begin, end);
-    rings.indices.insert(rings.indices.end(), begin, std::unique(begin, end));
-    rings.offsets.push_back(std::int64_t(rings.indices.size()));
-  }
-  return rings;
-}
-
 } // namespace texsim::pipelines::surface_synthesis

@@ -54,9 +54,4 @@ private:
 /// only and flattens the few others again on a wider part (build_level_stencils).
 double patch_reach(double patch_radius);
 
-/// The 1-rings (vertices sharing a triangle, by increasing id) of vertices [first, first +
-/// count) of `mesh`, row i for vertex first + i, found by one pass over the triangles. Serial.
-geom::CsrAdjacency run_rings(const geom::TriangleMesh& mesh, std::int64_t first,
-                             std::int64_t count);
-
 } // namespace texsim::pipelines::surface_synthesis

@@ -1,5 +1,6 @@
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 
+#include "par/fetch_from_owners.hpp"
 #include "pipelines/surface_synthesis/level_part.hpp"
 
 #include <algorithm>
@@ -36,12 +37,12 @@ bool sample_on_level(const LevelPart& part, const FlattenedPatch& patch,
 struct StencilPatches {
   const par::Comm& comm;
   const RetiledLevel& level;
-  /// The levels' triangles split over the ranks, which the parts are fetched from.
-  const geom::DistributedTriangles& level_split;
-  const geom::DistributedTriangles* coarser_split;
-  std::span<const geom::Vec3> normals, directions;
+  std::span<const geom::Vec3> positions, normals, directions;
   const RetiledLevel* coarser;
   std::span<const ParentFace> parents;
+  /// The positions of the parent faces' corners (sorted ids), fetched from their owners.
+  std::vector<std::int64_t> corner_ids;
+  std::vector<geom::Vec3> corner_positions;
   std::span<const Eigen::Vector2d> current_positions, coarser_positions;
   double current_radius, coarser_radius;
 
@@ -53,15 +54,16 @@ struct StencilPatches {
                                     LevelStencils& stencils) const {
     std::vector<geom::Vec3> centres;
     for (const std::int64_t v : vertices)
-      centres.push_back(level.mesh.positions[std::size_t(v)]);
-    const LevelPart part(comm, level_split, centres, growth * patch_reach(current_radius));
+      centres.push_back(positions[std::size_t(v - stencils.first)]);
+    const LevelPart part(comm, level.triangles, centres, growth * patch_reach(current_radius));
     std::optional<LevelPart> coarser_part;
     if (stencils.coarser_count > 0) { // around the vertices and their parent faces' corners
       for (const std::int64_t v : vertices)
         if (const ParentFace& parent = parents[std::size_t(v - stencils.first)]; parent.found())
           for (const std::int32_t u : parent.vertices)
-            centres.push_back(coarser->mesh.positions[std::size_t(u)]);
-      coarser_part.emplace(comm, *coarser_split, centres, growth * patch_reach(coarser_radius));
+            centres.push_back(corner_positions[std::size_t(
+                std::lower_bound(corner_ids.begin(), corner_ids.end(), u) - corner_ids.begin())]);
+      coarser_part.emplace(comm, coarser->triangles, centres, growth * patch_reach(coarser_radius));
     }
     std::vector<char> escaped(vertices.size(), 0);
 #pragma omp parallel
@@ -75,7 +77,7 @@ struct StencilPatches {
         const auto local = std::size_t(vertices[i] - stencils.first);
         const geom::Vec3& n = normals[local];
         const geom::Vec3& s = directions[local];
-        const TangentFrame frame{level.mesh.positions[v], s, n.cross(s), n};
+        const TangentFrame frame{positions[local], s, n.cross(s), n};
         const auto around =
             part.topology().vertex_triangles().row(part.local_vertex(std::int32_t(v)));
         flatten_patch(part.mesh(), part.topology(), around, frame, current_radius, patch, scratch);
@@ -115,6 +117,7 @@ std::int64_t LevelStencils::uncovered() const {
 }
 
 LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& level,
+                                   std::span<const geom::Vec3> positions,
                                    std::span<const geom::Vec3> normals,
                                    std::span<const geom::Vec3> directions,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,
@@ -122,9 +125,11 @@ LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& le
                                    std::int64_t owned) {
   TEXSIM_VERIFY(coarser == nullptr || std::int64_t(parents.size()) == owned,
                 parents.size() << " parent faces for " << owned << " owned vertices");
-  TEXSIM_VERIFY(std::int64_t(directions.size()) == owned && std::int64_t(normals.size()) == owned,
-                directions.size() << " directions and " << normals.size() << " normals for "
-                                  << owned << " owned vertices");
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == owned && std::int64_t(normals.size()) == owned &&
+                    std::int64_t(positions.size()) == owned,
+                directions.size() << " directions, " << normals.size() << " normals and "
+                                  << positions.size() << " positions for " << owned
+                                  << " owned vertices");
   LevelStencils stencils;
   stencils.first = first;
   stencils.owned = owned;
@@ -138,19 +143,34 @@ LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& le
   const double current_radius = patch_radius(current_positions, d);
   const double coarser_radius = coarser ? patch_radius(coarser_positions, coarser->spacing) : 0;
 
-  // Split from the replicated meshes while those remain, and dropped with the parts.
-  const auto level_split = geom::DistributedTriangles::from_replicated(comm, level.mesh);
-  std::optional<geom::DistributedTriangles> coarser_split;
+  std::vector<std::int64_t> corner_ids;
   if (coarser)
-    coarser_split = geom::DistributedTriangles::from_replicated(comm, coarser->mesh);
+    for (const ParentFace& parent : parents)
+      if (parent.found())
+        corner_ids.insert(corner_ids.end(), parent.vertices.begin(), parent.vertices.end());
+  std::sort(corner_ids.begin(), corner_ids.end());
+  corner_ids.erase(std::unique(corner_ids.begin(), corner_ids.end()), corner_ids.end());
+  std::vector<geom::Vec3> corner_positions;
+  if (coarser) {
+    struct Xyz {
+      double x, y, z;
+    };
+    std::vector<Xyz> run;
+    for (const geom::Vec3& p : coarser->positions)
+      run.push_back({p.x(), p.y(), p.z()});
+    for (const Xyz& p : par::fetch_from_owners(comm, coarser->rank_offsets, std::span(corner_ids),
+                                               std::span<const Xyz>(run)))
+      corner_positions.emplace_back(p.x, p.y, p.z);
+  }
   const StencilPatches patches{comm,
                                level,
-                               level_split,
-                               coarser_split ? &*coarser_split : nullptr,
+                               positions,
                                normals,
                                directions,
                                coarser,
                                parents,
+                               std::move(corner_ids),
+                               std::move(corner_positions),
                                current_positions,
                                coarser_positions,
                                current_radius,

@@ -38,16 +38,17 @@ struct LevelStencils {
 /// Stencils of vertices [first, first + owned) of `level`: the current part flattened from the
 /// triangles around each vertex in its frame (`normals`, `directions`, t = n x s) at the level's
 /// spacing d; the coarser part flattened on `coarser` from the vertex's parent face (`parents`)
-/// at 2d, skipped (uncovered) where no parent face was found. `normals`, `directions` and
-/// `parents` hold one entry per owned vertex (vertex first + i at i). `coarser` may be null when
+/// at 2d, skipped (uncovered) where no parent face was found. `positions`, `normals`,
+/// `directions` and `parents` hold one entry per owned vertex (vertex first + i at i); the
+/// parent faces' corners are fetched from their owners on `coarser`. `coarser` may be null when
 /// the layout has no coarser part. The patches are flattened on LevelParts of both levels around
 /// the owned vertices (and their parent faces), fetched from the levels' triangles split over
-/// the ranks (geom::DistributedTriangles, made here from the replicated meshes) and dropped on
-/// return, so no rank builds the topology of a whole level; the few vertices whose patches leave
-/// their parts' complete triangles are flattened again on parts twice as wide around them, until
-/// none does on any rank, so every stencil is the one the whole level gives. OpenMP over vertices;
-/// deterministic. Collective.
+/// the ranks (RetiledLevel::triangles) and dropped on return, so no rank builds the topology of a
+/// whole level; the few vertices whose patches leave their parts' complete triangles are flattened
+/// again on parts twice as wide around them, until none does on any rank, so every stencil is the
+/// one the whole level gives. OpenMP over vertices; deterministic. Collective.
 LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& level,
+                                   std::span<const geom::Vec3> positions,
                                    std::span<const geom::Vec3> normals,
                                    std::span<const geom::Vec3> directions,
                                    const RetiledLevel* coarser, std::span<const ParentFace> parents,

@@ -1,6 +1,7 @@
 #include "pipelines/surface_synthesis/mesh_pyramid.hpp"
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "core/log.hpp"
 #include "core/rng.hpp"
 #include "geom/mesh_measures.hpp"
@@ -10,7 +11,10 @@
 #include "geom/restricted_delaunay.hpp"
 #include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
+#include "par/gather_to_root.hpp"
+#include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 
 #include <mpi.h>
 
@@ -30,7 +34,7 @@ std::uint64_t level_seed(std::uint64_t seed, int level) {
   return (std::uint64_t{bits[0]} << 32) | bits[1];
 }
 
-/// Every cell's centre, indexed by id, on every rank.
+/// Every cell's centre, indexed by id, on every rank (geom::restricted_delaunay cuts against all).
 std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
                                               const geom::SurfaceCells& cells) {
   std::vector<geom::Vec3> positions(std::size_t(cells.global_count()));
@@ -102,29 +106,31 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
       placed_on = &simplified;
     }
   });
-  RetiledLevel retiled;
+  std::vector<std::int64_t> rank_offsets;
+  std::vector<geom::Vec3> centres;
   {
-    // Only the cells' centres and runs outlive the retiling (not their Voronoi pieces).
+    // Only the cells' runs and centres outlive the retiling (not their Voronoi pieces).
     geom::SurfaceCellsSettings cells_settings = settings.cells;
     cells_settings.count = count;
     cells_settings.keep_pieces = false;
     const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
                                    level_seed(seed, level), cells_settings);
-    retiled.mesh.positions = gather_cell_positions(comm, cells);
     const auto offsets = cells.rank_offsets();
-    retiled.rank_offsets.assign(offsets.begin(), offsets.end());
+    rank_offsets.assign(offsets.begin(), offsets.end());
+    centres = gather_cell_positions(comm, cells);
   }
-  // Every rank cuts the Voronoi pieces of a share of the surface rank 0 holds; rank 0 connects
-  // the cells and checks the result; every rank gets its triangles.
-  std::vector<std::int64_t> ids(retiled.mesh.positions.size());
+  // Every rank cuts the Voronoi pieces of a share of the surface rank 0 holds, against every
+  // cell's centre (for now gathered on every rank while the level is connected); rank 0
+  // connects the cells.
+  std::vector<std::int64_t> ids(centres.size());
   std::iota(ids.begin(), ids.end(), std::int64_t{0});
-  geom::TriangleMesh connected =
-      geom::restricted_delaunay(comm, *placed_on, retiled.mesh.positions, ids);
+  geom::TriangleMesh connected = geom::restricted_delaunay(comm, *placed_on, centres, ids);
+  centres = {};
+  ids = {};
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
       return;
-    retiled.mesh = std::move(connected);
-    const std::string defects = topology_defects(retiled.mesh, surface_shape);
+    const std::string defects = topology_defects(connected, surface_shape);
     if (!defects.empty())
       TEXSIM_INPUT_ERROR("surface_synthesis.vertices, surface_synthesis.levels: level "
                          << level << " of " << settings.levels << " (" << count
@@ -133,19 +139,78 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
                          << "; its vertices are too few for the surface's thin parts: use more "
                             "surface_synthesis.vertices or fewer surface_synthesis.levels");
   });
-  par::broadcast_records(comm, retiled.mesh.triangles);
-  const std::int64_t first = retiled.rank_offsets[std::size_t(comm.rank)];
-  retiled.normals = geom::vertex_normals(retiled.mesh, first,
-                                         retiled.rank_offsets[std::size_t(comm.rank) + 1] - first);
-  retiled.spacing =
-      std::sqrt(2.0 * geom::total_area(retiled.mesh) / double(retiled.mesh.num_triangles()));
+  RetiledLevel retiled = distribute_level(comm, connected, std::move(rank_offsets));
   log::info(log::cat("mesh pyramid: level ", level, ": ", count, " vertices, ",
-                     retiled.mesh.num_triangles(), " triangles, spacing ", retiled.spacing,
+                     retiled.triangle_count(), " triangles, spacing ", retiled.spacing,
                      " (placed on ", placed_on->num_triangles(), " triangles)"));
   return retiled;
 }
 
 } // namespace
+
+RetiledLevel distribute_level(const par::Comm& comm, const geom::TriangleMesh& root_mesh,
+                              std::vector<std::int64_t> rank_offsets) {
+  RetiledLevel level;
+  level.rank_offsets = std::move(rank_offsets);
+  TEXSIM_VERIFY(std::int64_t(level.rank_offsets.size()) == comm.size + 1,
+                "distribute_level: " << level.rank_offsets.size() << " run offsets for "
+                                     << comm.size << " ranks");
+  if (comm.is_root()) {
+    TEXSIM_VERIFY(std::int64_t(root_mesh.positions.size()) == level.vertex_count(),
+                  "distribute_level: " << root_mesh.positions.size() << " vertices for runs of "
+                                       << level.vertex_count());
+    // fnv1a64 of the positions' bytes then the triangles', without copying them.
+    level.mesh_hash = fnv1a64({reinterpret_cast<const char*>(root_mesh.triangles.data()),
+                               root_mesh.triangles.size() * sizeof(geom::Triangle)},
+                              fnv1a64({reinterpret_cast<const char*>(root_mesh.positions.data()),
+                                       root_mesh.positions.size() * sizeof(geom::Vec3)}));
+  }
+  MPI_Bcast(&level.mesh_hash, 1, MPI_UINT64_T, 0, comm.raw);
+  for (const auto& p : par::scatter_from_root<std::array<double, 3>>(comm, [&](int rank) {
+         std::vector<std::array<double, 3>> run;
+         for (auto v = level.run_begin(rank); v < level.run_begin(rank + 1); ++v) {
+           const geom::Vec3& p = root_mesh.positions[std::size_t(v)];
+           run.push_back({p.x(), p.y(), p.z()});
+         }
+         return run;
+       }))
+    level.positions.emplace_back(p[0], p[1], p[2]);
+  level.triangles = geom::DistributedTriangles::from_root(
+      comm, root_mesh, {}, geom::DistributedTriangles::Sampling::none);
+  // DistributedTriangles' total area is total_area()'s bits on the whole mesh.
+  level.spacing = std::sqrt(2.0 * level.triangles.total_area() / double(level.triangle_count()));
+  level.star = run_star(comm, level.triangles, level.rank_offsets, level.positions);
+  const auto count = std::int64_t(level.positions.size());
+  level.normals = geom::vertex_normals(
+      level.star.mesh, star_run_begin(level.star, level.run_begin(comm.rank), count), count);
+  return level;
+}
+
+std::vector<geom::Vec3> gather_level_positions(const par::Comm& comm, const RetiledLevel& level) {
+  std::vector<std::array<double, 3>> run;
+  for (const geom::Vec3& p : level.positions)
+    run.push_back({p.x(), p.y(), p.z()});
+  std::vector<geom::Vec3> positions;
+  for (const auto& p : par::gather_to_root(comm, std::span<const std::array<double, 3>>(run)))
+    positions.emplace_back(p[0], p[1], p[2]);
+  return positions;
+}
+
+geom::TriangleMesh gather_level_mesh(const par::Comm& comm, const RetiledLevel& level) {
+  geom::TriangleMesh mesh;
+  mesh.positions = gather_level_positions(comm, level);
+  std::vector<geom::TriangleRecord> share;
+  for (std::size_t k = 0; k < level.triangles.owned_count(); ++k)
+    share.push_back(level.triangles.owned_record(k));
+  auto records = par::gather_to_root(comm, std::span<const geom::TriangleRecord>(share));
+  std::sort(
+      records.begin(), records.end(),
+      [](const geom::TriangleRecord& a, const geom::TriangleRecord& b) { return a.id < b.id; });
+  for (const auto& r : records)
+    mesh.triangles.push_back(
+        {std::int32_t(r.vertex[0]), std::int32_t(r.vertex[1]), std::int32_t(r.vertex[2])});
+  return mesh;
+}
 
 std::vector<RetiledLevel> build_mesh_pyramid(const par::Comm& comm,
                                              const geom::TriangleMesh& surface, std::uint64_t seed,

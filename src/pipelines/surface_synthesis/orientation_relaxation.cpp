@@ -5,7 +5,6 @@
 #include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 #include "par/reproducible_sum.hpp"
-#include "pipelines/surface_synthesis/level_part.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -196,21 +195,20 @@ void relax_class(const par::Comm& comm, const RingHalo& halo, std::span<const st
 }
 
 void verify_inputs(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                   const geom::TriangleMesh& mesh, std::span<const geom::Vec3> normals,
+                   const geom::CsrAdjacency& rings, std::span<const geom::Vec3> normals,
                    const CoarserOrientation* coarser, int symmetry, int sweeps,
                    const std::vector<geom::Vec3>& directions) {
-  const std::int64_t count = mesh.num_vertices();
   TEXSIM_VERIFY(symmetry >= 1, "orientation symmetry " << symmetry << " is below 1");
   TEXSIM_VERIFY(sweeps >= 0, "relaxation sweeps " << sweeps << " is negative");
-  TEXSIM_VERIFY(
-      std::int64_t(rank_offsets.size()) == comm.size + 1 && rank_offsets.front() == 0 &&
-          rank_offsets.back() == count && std::is_sorted(rank_offsets.begin(), rank_offsets.end()),
-      "rank offsets must be " << comm.size + 1 << " non-decreasing values from 0 to " << count);
+  TEXSIM_VERIFY(std::int64_t(rank_offsets.size()) == comm.size + 1 && rank_offsets.front() == 0 &&
+                    std::is_sorted(rank_offsets.begin(), rank_offsets.end()),
+                "rank offsets must be " << comm.size + 1 << " non-decreasing values from 0");
   const std::int64_t run =
       rank_offsets[std::size_t(comm.rank) + 1] - rank_offsets[std::size_t(comm.rank)];
-  TEXSIM_VERIFY(std::int64_t(directions.size()) == run && std::int64_t(normals.size()) == run,
-                directions.size() << " directions and " << normals.size()
-                                  << " normals for a run of " << run << " vertices");
+  TEXSIM_VERIFY(std::int64_t(directions.size()) == run && std::int64_t(normals.size()) == run &&
+                    std::int64_t(rings.rows()) == run,
+                directions.size() << " directions, " << normals.size() << " normals and "
+                                  << rings.rows() << " rings for a run of " << run << " vertices");
   if (coarser == nullptr || coarser->parents.empty())
     return;
   TEXSIM_VERIFY(std::int64_t(coarser->parents.size()) == run &&
@@ -265,14 +263,11 @@ double minimising_rotation(std::span<const double> angles, int symmetry) {
 }
 
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                                  const geom::TriangleMesh& mesh,
+                                  const geom::CsrAdjacency& rings,
                                   std::span<const geom::Vec3> normals,
                                   const CoarserOrientation* coarser, int symmetry, int sweeps,
                                   std::vector<geom::Vec3>& directions) {
-  verify_inputs(comm, rank_offsets, mesh, normals, coarser, symmetry, sweeps, directions);
-  const std::int64_t first = rank_offsets[std::size_t(comm.rank)];
-  const geom::CsrAdjacency rings =
-      run_rings(mesh, first, rank_offsets[std::size_t(comm.rank) + 1] - first);
+  verify_inputs(comm, rank_offsets, rings, normals, coarser, symmetry, sweeps, directions);
   const auto classes = colour_classes(comm, rank_offsets, rings);
   const RingHalo halo(comm, rank_offsets, rings);
   // The run's directions and normals, then the halo's, fetched from their owners.

@@ -9,6 +9,7 @@
 ///     = sum_p (E_p^ring / 2 + E_p^parent)
 /// changes by exactly the change of E_p when s_p alone moves: setting s_p to the exact minimiser of
 /// E_p never raises E (up to rounding).
+#include "geom/mesh_topology.hpp"
 #include "geom/triangle_mesh.hpp"
 #include "par/comm.hpp"
 #include "pipelines/surface_synthesis/orientation_field.hpp"
@@ -39,9 +40,9 @@ struct RelaxationReport {
 /// given and has parents); a rotation that does not lower E_p strictly leaves s_p untouched.
 /// Updated directions are unit vectors in their tangent planes.
 ///
-/// Distribution: the mesh is the level's whole (replicated); `normals` and `directions` hold this
-/// rank's run [rank_offsets[r], rank_offsets[r+1]) only, and `coarser` one entry per run vertex.
-/// Each rank finds the 1-rings of its run in `mesh`'s triangles (no whole-level topology), fetches
+/// Distribution: `rings` are the 1-rings of this rank's run [rank_offsets[r], rank_offsets[r+1])
+/// (run_rings: row i for vertex rank_offsets[r] + i, the level's vertex ids), and `normals` and
+/// `directions` hold that run only, and `coarser` one entry per run vertex. Each rank fetches
 /// its ring halo's directions and normals from their owners, updates its run's members of each
 /// class (OpenMP threads share them) and sends their new directions to the ranks whose rings hold
 /// them. The total energy is a par::reproducible_sum of the vertices' shares. The directions are
@@ -49,7 +50,7 @@ struct RelaxationReport {
 /// has comm.size + 1 non-decreasing entries from 0 to the vertex count. `symmetry` n >= 1, sweeps
 /// >= 0. Collective.
 RelaxationReport relax_directions(const par::Comm& comm, std::span<const std::int64_t> rank_offsets,
-                                  const geom::TriangleMesh& mesh,
+                                  const geom::CsrAdjacency& rings,
                                   std::span<const geom::Vec3> normals,
                                   const CoarserOrientation* coarser, int symmetry, int sweeps,
                                   std::vector<geom::Vec3>& directions);

@@ -106,16 +106,14 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const
     return parents;
 
   std::vector<std::vector<ShareCrossing>> answers(std::size_t(comm.size));
-  const std::span<const geom::TriangleRecord> share = coarse.owned();
-  if (!share.empty()) {
-    const geom::LocalSurface own = coarse.owned_surface();
-    const geom::AabbTree tree(own.mesh);
+  if (coarse.owned_count() > 0) {
+    const geom::AabbTree tree(coarse.owned_surface().mesh);
     for (const OpenQuery& query : every_open) {
       const geom::Vec3 origin(query.origin[0], query.origin[1], query.origin[2]);
       const geom::Vec3 direction(query.direction[0], query.direction[1], query.direction[2]);
       if (const auto hit = tree.nearest_line_crossing(origin, direction))
         answers[std::size_t(query.rank)].push_back(
-            {share[std::size_t(hit->triangle)], hit->t, query.index});
+            {coarse.owned_record(std::size_t(hit->triangle)), hit->t, query.index});
     }
   }
   // Per open point, the nearest crossing over the ranks' shares: AabbTree's order.
@@ -142,11 +140,8 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const
 
 std::vector<ParentFace> find_parent_faces(const par::Comm& comm, const RetiledLevel& level,
                                           const RetiledLevel& coarser) {
-  const auto first = std::size_t(level.rank_offsets[std::size_t(comm.rank)]);
-  return find_parent_faces(
-      comm, std::span(level.mesh.positions).subspan(first, level.normals.size()), level.normals,
-      geom::DistributedTriangles::from_replicated(comm, coarser.mesh),
-      parent_window_reach(coarser.spacing));
+  return find_parent_faces(comm, level.positions, level.normals, coarser.triangles,
+                           parent_window_reach(coarser.spacing));
 }
 
 } // namespace texsim::pipelines::surface_synthesis

@@ -42,9 +42,8 @@ std::vector<ParentFace> find_parent_faces(const par::Comm& comm, std::span<const
                                           std::span<const geom::Vec3> normals,
                                           const geom::DistributedTriangles& coarse, double reach);
 
-/// The same for this rank's run of `level` on `coarser`, with windows of
-/// parent_window_reach(coarser.spacing) of a split made from the coarser level's replicated mesh
-/// while those remain (dropped on return). Collective.
+/// The same for this rank's run of `level` on `coarser`'s triangles, with windows of
+/// parent_window_reach(coarser.spacing). Collective.
 std::vector<ParentFace> find_parent_faces(const par::Comm& comm, const RetiledLevel& level,
                                           const RetiledLevel& coarser);
 

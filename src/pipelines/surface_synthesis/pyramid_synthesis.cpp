@@ -72,7 +72,7 @@ PyramidSynthesisReport synthesize_pyramid(const par::Comm& comm, const PyramidSy
     LevelStencils stencils = [&] {
       auto stage = timers.scope("stencils");
       const bool reads_coarser = has_coarser && !layout.coarser.empty();
-      return build_level_stencils(comm, level, level.normals, input.directions[K],
+      return build_level_stencils(comm, level, level.positions, level.normals, input.directions[K],
                                   reads_coarser ? &input.pyramid[K + 1] : nullptr,
                                   reads_coarser ? std::span(input.parents[K])
                                                 : std::span<const ParentFace>(),

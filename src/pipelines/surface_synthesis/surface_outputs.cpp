@@ -18,13 +18,13 @@ namespace {
 /// The finest level's colours at every vertex of M_s: linear on the retiled triangle nearest to
 /// each vertex.
 std::vector<img::Rgb> colours_on_surface(const geom::TriangleMesh& surface,
-                                         const RetiledLevel& finest,
+                                         const geom::TriangleMesh& finest,
                                          std::span<const img::Rgb> colours) {
   std::vector<std::vector<double>> channels(3);
   for (const auto& c : colours)
     for (int ch = 0; ch < 3; ++ch)
       channels[std::size_t(ch)].push_back(c[ch]);
-  const geom::SurfaceFieldSampler sampler(finest.mesh, std::move(channels));
+  const geom::SurfaceFieldSampler sampler(finest, std::move(channels));
   std::vector<img::Rgb> result(surface.positions.size());
   for (int ch = 0; ch < 3; ++ch) {
     const auto values = sampler.sample(std::size_t(ch), surface.positions);
@@ -67,9 +67,10 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
                                      const SurfaceSynthesisSettings& settings,
                                      const std::filesystem::path& output_dir) {
   SurfaceOutputs outputs;
-  // Rank 0, which holds M_s, takes the whole finest level's colours (the runs in rank order are
-  // the vertices in id order).
+  // Rank 0, which holds M_s, takes the whole finest level and its colours (the runs in rank order
+  // are the vertices in id order).
   const auto finest_colours = par::gather_to_root(comm, std::span(colours.colours));
+  const auto finest_mesh = gather_level_mesh(comm, finest);
   if (comm.rank == 0)
     outputs.histogram_distance = img::histogram_distance(
         {reinterpret_cast<const float*>(finest_colours.data()), 3 * finest_colours.size()},
@@ -80,7 +81,7 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
   std::vector<double> xyz, colour_values, height;
   std::vector<std::int64_t> triangles;
   if (comm.rank == 0) {
-    on_surface = colours_on_surface(surface, finest, finest_colours);
+    on_surface = colours_on_surface(surface, finest_mesh, finest_colours);
     xyz = xyz_of(surface.positions);
     for (const auto& c : on_surface) {
       colour_values.insert(colour_values.end(), {c.r, c.g, c.b});

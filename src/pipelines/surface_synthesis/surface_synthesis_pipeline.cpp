@@ -21,6 +21,7 @@
 #include "pipelines/surface_synthesis/orientation_relaxation.hpp"
 #include "pipelines/surface_synthesis/parent_faces.hpp"
 #include "pipelines/surface_synthesis/pyramid_synthesis.hpp"
+#include "pipelines/surface_synthesis/run_star.hpp"
 #include "pipelines/surface_synthesis/surface_outputs.hpp"
 #include "pipelines/surface_synthesis/synthesis_checkpoint.hpp"
 
@@ -31,13 +32,14 @@
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// The orientation field of mode `field` at a level's vertices: the three expressions of x, y, z
-/// and the mesh arrays (sampled at the closest point of the input file's surface).
+/// The orientation field of mode `field` at `positions` (a level's vertices): the three
+/// expressions of x, y, z and the mesh arrays (sampled at the closest point of the input file's
+/// surface).
 std::vector<geom::Vec3> field_vectors(const OrientationSettings& settings,
                                       const geom::MeshSource& mesh_source,
-                                      const RetiledLevel& level) {
+                                      std::span<const geom::Vec3> positions) {
   std::vector<double> xyz;
-  for (const auto& p : level.mesh.positions)
+  for (const auto& p : positions)
     xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
   std::vector<std::vector<double>> arrays;
   if (!settings.mesh_fields.empty()) {
@@ -46,10 +48,10 @@ std::vector<geom::Vec3> field_vectors(const OrientationSettings& settings,
       position *= mesh_source.scale;
     const geom::SurfaceFieldSampler sampler(file.mesh, std::move(file.values));
     for (std::size_t k = 0; k < settings.mesh_fields.size(); ++k)
-      arrays.push_back(sampler.sample(k, level.mesh.positions));
+      arrays.push_back(sampler.sample(k, positions));
   }
   const std::vector<std::span<const double>> columns(arrays.begin(), arrays.end());
-  std::vector<geom::Vec3> field(level.mesh.positions.size(), geom::Vec3::Zero());
+  std::vector<geom::Vec3> field(positions.size(), geom::Vec3::Zero());
   for (int c = 0; c < 3; ++c) {
     const auto values = geom::PointExpression(settings.field[std::size_t(c)], settings.mesh_fields,
                                               "surface_synthesis.orientation.field")
@@ -70,9 +72,11 @@ void SurfaceSynthesisPipeline::configure(const ConfigSection& section, const Run
 MemoryEstimate SurfaceSynthesisPipeline::estimate_memory(int ranks) const {
   auto estimate =
       geom::estimate_mesh_memory(settings_.mesh, "surface_synthesis.mesh", ranks, 400, 1000);
-  // Pyramid (4/3 of the finest level), replicated, about 400 bytes a vertex; stencils of the
-  // owned vertices, 2 x 49 samples x 40 bytes.
-  const auto pyramid = std::uint64_t(settings_.vertices) * 4 / 3 * 400;
+  // Pyramid (4/3 of the finest level), about 400 bytes a vertex over the ranks (its triangles
+  // split, the runs' positions, normals, directions and colours) and the finest level gathered
+  // on rank 0 for the surface outputs; stencils of the owned vertices, 2 x 49 samples x 40 bytes.
+  const auto pyramid = std::uint64_t(settings_.vertices) * 4 / 3 * 400 / std::uint64_t(ranks) +
+                       std::uint64_t(settings_.vertices) * 48;
   const auto stencils = std::uint64_t(settings_.vertices) * 2 * 49 * 40 / std::uint64_t(ranks);
   return larger(estimate, {pyramid + stencils + estimate.bytes, "surface_synthesis.vertices",
                            log::cat(settings_.vertices, " retiled vertices on ", settings_.levels,
@@ -120,8 +124,8 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
     pyramid = build_mesh_pyramid(comm, surface, run.seed, pyramid_settings);
     nlohmann::json level_metrics = nlohmann::json::array();
     for (std::size_t k = 0; k < pyramid.size(); ++k) {
-      level_metrics.push_back({{"vertices", pyramid[k].mesh.num_vertices()},
-                               {"triangles", pyramid[k].mesh.num_triangles()},
+      level_metrics.push_back({{"vertices", pyramid[k].vertex_count()},
+                               {"triangles", pyramid[k].triangle_count()},
                                {"spacing", pyramid[k].spacing}});
     }
     report.metric("levels", level_metrics);
@@ -145,12 +149,14 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
       if (orientation.mode == OrientationMode::random) {
         s = random;
       } else if (orientation.mode == OrientationMode::field) {
-        // Rank 0 reads the mesh arrays and evaluates the field; each rank gets its run.
+        // Rank 0 gathers the level's positions, reads the mesh arrays and evaluates the field;
+        // each rank gets its run.
         std::vector<std::vector<std::array<double, 3>>> runs(std::size_t(comm.size));
+        const auto positions = gather_level_positions(comm, level);
         par::run_collectively(comm, [&] {
           if (!comm.is_root())
             return;
-          const auto field = field_vectors(orientation, settings_.mesh, level);
+          const auto field = field_vectors(orientation, settings_.mesh, positions);
           for (std::size_t v = 0; v < field.size(); ++v)
             runs[std::size_t(par::owner_of(level.rank_offsets, std::int64_t(v)))].push_back(
                 {field[v].x(), field[v].y(), field[v].z()});
@@ -176,9 +182,9 @@ void SurfaceSynthesisPipeline::run(RunContext& ctx) {
         } else {
           s = random;
         }
-        const auto relaxed = relax_directions(comm, level.rank_offsets, level.mesh, normals,
-                                              coarser ? &*coarser : nullptr, orientation.symmetry,
-                                              orientation.sweeps, s);
+        const auto relaxed = relax_directions(comm, level.rank_offsets, run_rings(level, comm.rank),
+                                              normals, coarser ? &*coarser : nullptr,
+                                              orientation.symmetry, orientation.sweeps, s);
         relax_metrics.push_back({{"level", k},
                                  {"energy_start", relaxed.energy.front()},
                                  {"energy_end", relaxed.energy.back()},

@@ -18,8 +18,9 @@ class SurfaceSynthesisPipeline : public Pipeline {
 public:
   void configure(const ConfigSection& section, const RunSettings& run) override;
   void run(RunContext& ctx) override;
-  /// The input mesh and the whole pyramid on every rank (replicated geometry for now), plus
-  /// stencils of the owned vertices: about 2 KiB per finest vertex; the exemplar tables are small.
+  /// The input mesh, the pyramid split over the ranks and the finest level gathered on rank 0,
+  /// plus stencils of the owned vertices: about 2 KiB per finest vertex over the ranks; the
+  /// exemplar tables are small.
   MemoryEstimate estimate_memory(int ranks) const override;
 
 private:

@@ -14,14 +14,11 @@ std::string level_name(std::size_t level, const char* what) {
 } // namespace
 
 std::string hierarchy_hash(const std::vector<RetiledLevel>& pyramid) {
-  std::string bytes;
-  for (const auto& level : pyramid) {
-    bytes.append(reinterpret_cast<const char*>(level.mesh.positions.data()),
-                 level.mesh.positions.size() * sizeof(geom::Vec3));
-    bytes.append(reinterpret_cast<const char*>(level.mesh.triangles.data()),
-                 level.mesh.triangles.size() * sizeof(geom::Triangle));
-  }
-  return hex64(fnv1a64(bytes));
+  std::uint64_t state = kFnv1a64Offset;
+  for (const auto& level : pyramid)
+    state =
+        fnv1a64({reinterpret_cast<const char*>(&level.mesh_hash), sizeof level.mesh_hash}, state);
+  return hex64(state);
 }
 
 void save_synthesis(const par::Comm& comm, const io::CheckpointStore& store, std::int64_t step,

@@ -38,7 +38,8 @@ SynthesisPosition load_synthesis(const par::Comm& comm, const io::CheckpointRead
                                  const SynthesisIdentity& identity,
                                  std::vector<LevelColours>& colours);
 
-/// Hash of the retiled meshes' bytes (positions and triangles of every level).
+/// Hash of the retiled levels: fnv1a64 of their mesh_hash values (each the hash of a level's
+/// positions and triangles), level 0 first.
 std::string hierarchy_hash(const std::vector<RetiledLevel>& pyramid);
 
 } // namespace texsim::pipelines::surface_synthesis

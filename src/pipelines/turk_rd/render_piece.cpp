@@ -22,18 +22,19 @@ RenderPiece make_render_piece(const par::Comm& comm, const geom::DistributedTria
   // The ring's vertices lie within one edge of the share's corners, and their triangles within
   // two: a window of that reach holds every triangle around every vertex of the patch, so the cut
   // sees the whole mesh's neighbourhoods.
+  const geom::LocalSurface& own = input.owned_surface();
   std::vector<geom::Vec3> corners;
-  for (const auto& r : input.owned())
-    for (int c = 0; c < 3; ++c)
-      corners.emplace_back(r.corners[3 * c], r.corners[3 * c + 1], r.corners[3 * c + 2]);
+  for (const auto& t : own.mesh.triangles)
+    for (const std::int32_t v : t)
+      corners.push_back(own.mesh.positions[std::size_t(v)]);
   const geom::LocalSurface window = input.window(comm, corners, 2.5 * input.longest_edge());
   const geom::MeshTopology window_topology(window.mesh);
   std::vector<char> creases = geom::edge_flags(window_topology, window.triangle_creases);
   if (std::none_of(creases.begin(), creases.end(), [](char c) { return c != 0; }))
     creases.clear();
   std::vector<std::int32_t> share;
-  for (const auto& r : input.owned())
-    share.push_back(window.local_triangle(r.id));
+  for (const std::int64_t id : own.triangle_ids)
+    share.push_back(window.local_triangle(id));
   std::vector<std::int32_t> ring_of;
   const geom::CoarsePatch patch =
       geom::PatchCutter(window.mesh, window_topology, creases).cut(share, 1, &ring_of);
