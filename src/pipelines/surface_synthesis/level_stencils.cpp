@@ -1,6 +1,5 @@
 #include "pipelines/surface_synthesis/level_stencils.hpp"
 
-#include "par/fetch_from_owners.hpp"
 #include "pipelines/surface_synthesis/level_part.hpp"
 
 #include <algorithm>
@@ -151,17 +150,8 @@ LevelStencils build_level_stencils(const par::Comm& comm, const RetiledLevel& le
   std::sort(corner_ids.begin(), corner_ids.end());
   corner_ids.erase(std::unique(corner_ids.begin(), corner_ids.end()), corner_ids.end());
   std::vector<geom::Vec3> corner_positions;
-  if (coarser) {
-    struct Xyz {
-      double x, y, z;
-    };
-    std::vector<Xyz> run;
-    for (const geom::Vec3& p : coarser->positions)
-      run.push_back({p.x(), p.y(), p.z()});
-    for (const Xyz& p : par::fetch_from_owners(comm, coarser->rank_offsets, std::span(corner_ids),
-                                               std::span<const Xyz>(run)))
-      corner_positions.emplace_back(p.x, p.y, p.z);
-  }
+  if (coarser)
+    corner_positions = fetch_level_positions(comm, *coarser, corner_ids);
   const StencilPatches patches{comm,
                                level,
                                positions,

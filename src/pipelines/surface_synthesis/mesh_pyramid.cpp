@@ -11,6 +11,7 @@
 #include "geom/restricted_delaunay.hpp"
 #include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
+#include "par/fetch_from_owners.hpp"
 #include "par/gather_to_root.hpp"
 #include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
@@ -28,6 +29,26 @@ namespace {
 
 /// Fewer vertices than an icosahedron cannot retile a closed surface into a useful level.
 constexpr std::int64_t kMinLevelVertices = 12;
+
+/// Positions as plain triples, which travel between ranks as bytes (Eigen's Vec3 is not
+/// trivially copyable), and back.
+using Xyz = std::array<double, 3>;
+
+std::vector<Xyz> as_xyz(std::span<const geom::Vec3> positions) {
+  std::vector<Xyz> xyz;
+  xyz.reserve(positions.size());
+  for (const geom::Vec3& p : positions)
+    xyz.push_back({p.x(), p.y(), p.z()});
+  return xyz;
+}
+
+std::vector<geom::Vec3> as_positions(const std::vector<Xyz>& xyz) {
+  std::vector<geom::Vec3> positions;
+  positions.reserve(xyz.size());
+  for (const Xyz& p : xyz)
+    positions.emplace_back(p[0], p[1], p[2]);
+  return positions;
+}
 
 std::uint64_t level_seed(std::uint64_t seed, int level) {
   const auto bits = CounterRng(seed, kLevelSeedStream).bits(std::uint64_t(level), 0);
@@ -166,34 +187,32 @@ RetiledLevel distribute_level(const par::Comm& comm, const geom::TriangleMesh& r
                                        root_mesh.positions.size() * sizeof(geom::Vec3)}));
   }
   MPI_Bcast(&level.mesh_hash, 1, MPI_UINT64_T, 0, comm.raw);
-  for (const auto& p : par::scatter_from_root<std::array<double, 3>>(comm, [&](int rank) {
-         std::vector<std::array<double, 3>> run;
-         for (auto v = level.run_begin(rank); v < level.run_begin(rank + 1); ++v) {
-           const geom::Vec3& p = root_mesh.positions[std::size_t(v)];
-           run.push_back({p.x(), p.y(), p.z()});
-         }
-         return run;
-       }))
-    level.positions.emplace_back(p[0], p[1], p[2]);
+  level.positions = as_positions(par::scatter_from_root<Xyz>(comm, [&](int rank) {
+    return as_xyz(std::span(root_mesh.positions)
+                      .subspan(std::size_t(level.run_begin(rank)),
+                               std::size_t(level.run_begin(rank + 1) - level.run_begin(rank))));
+  }));
   level.triangles = geom::DistributedTriangles::from_root(
       comm, root_mesh, {}, geom::DistributedTriangles::Sampling::none);
   // DistributedTriangles' total area is total_area()'s bits on the whole mesh.
   level.spacing = std::sqrt(2.0 * level.triangles.total_area() / double(level.triangle_count()));
-  level.star = run_star(comm, level.triangles, level.rank_offsets, level.positions);
+  level.star = run_star(comm, level);
   const auto count = std::int64_t(level.positions.size());
   level.normals = geom::vertex_normals(
       level.star.mesh, star_run_begin(level.star, level.run_begin(comm.rank), count), count);
   return level;
 }
 
+std::vector<geom::Vec3> fetch_level_positions(const par::Comm& comm, const RetiledLevel& level,
+                                              std::span<const std::int64_t> ids) {
+  const auto run = as_xyz(level.positions);
+  return as_positions(
+      par::fetch_from_owners(comm, level.rank_offsets, ids, std::span<const Xyz>(run)));
+}
+
 std::vector<geom::Vec3> gather_level_positions(const par::Comm& comm, const RetiledLevel& level) {
-  std::vector<std::array<double, 3>> run;
-  for (const geom::Vec3& p : level.positions)
-    run.push_back({p.x(), p.y(), p.z()});
-  std::vector<geom::Vec3> positions;
-  for (const auto& p : par::gather_to_root(comm, std::span<const std::array<double, 3>>(run)))
-    positions.emplace_back(p[0], p[1], p[2]);
-  return positions;
+  const auto run = as_xyz(level.positions);
+  return as_positions(par::gather_to_root(comm, std::span<const Xyz>(run)));
 }
 
 geom::TriangleMesh gather_level_mesh(const par::Comm& comm, const RetiledLevel& level) {

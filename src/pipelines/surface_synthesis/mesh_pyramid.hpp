@@ -9,6 +9,7 @@
 #include "par/comm.hpp"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace texsim::pipelines::surface_synthesis {
@@ -57,6 +58,11 @@ struct RetiledLevel {
 /// (run_star) and computes its run's normals from it. Collective.
 RetiledLevel distribute_level(const par::Comm& comm, const geom::TriangleMesh& root_mesh,
                               std::vector<std::int64_t> rank_offsets);
+
+/// The positions of level vertices `ids` (sorted, distinct), fetched from their owners'
+/// runs. Collective.
+std::vector<geom::Vec3> fetch_level_positions(const par::Comm& comm, const RetiledLevel& level,
+                                              std::span<const std::int64_t> ids);
 
 /// The whole level's positions on rank 0, by id (the others get none). Collective.
 std::vector<geom::Vec3> gather_level_positions(const par::Comm& comm, const RetiledLevel& level);

@@ -1,7 +1,6 @@
 #include "pipelines/surface_synthesis/run_star.hpp"
 
 #include "core/error.hpp"
-#include "par/fetch_from_owners.hpp"
 #include "par/id_runs.hpp"
 #include "par/record_exchange.hpp"
 
@@ -22,16 +21,10 @@ struct StarTriangle {
   std::array<char, 5> padding{}; ///< no indeterminate bytes on the wire
 };
 
-struct Xyz {
-  double x, y, z;
-};
-
 } // namespace
 
-geom::LocalSurface run_star(const par::Comm& comm, const geom::DistributedTriangles& triangles,
-                            std::span<const std::int64_t> rank_offsets,
-                            std::span<const geom::Vec3> run_positions) {
-  const geom::LocalSurface& share = triangles.owned_surface();
+geom::LocalSurface run_star(const par::Comm& comm, const RetiledLevel& level) {
+  const geom::LocalSurface& share = level.triangles.owned_surface();
   std::vector<std::vector<StarTriangle>> to_owners(std::size_t(comm.size));
   for (std::size_t k = 0; k < share.triangle_ids.size(); ++k) {
     StarTriangle triangle;
@@ -40,7 +33,7 @@ geom::LocalSurface run_star(const par::Comm& comm, const geom::DistributedTriang
     std::array<int, 3> owners{};
     for (std::size_t c = 0; c < 3; ++c) {
       triangle.vertex[c] = share.vertex_ids[std::size_t(share.mesh.triangles[k][c])];
-      owners[c] = par::owner_of(rank_offsets, triangle.vertex[c]);
+      owners[c] = par::owner_of(level.rank_offsets, triangle.vertex[c]);
     }
     std::sort(owners.begin(), owners.end());
     for (std::size_t c = 0; c < 3; ++c)
@@ -62,17 +55,12 @@ geom::LocalSurface run_star(const par::Comm& comm, const geom::DistributedTriang
   star = {};
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  std::vector<Xyz> run;
-  for (const geom::Vec3& p : run_positions)
-    run.push_back({p.x(), p.y(), p.z()});
-  const auto positions =
-      par::fetch_from_owners(comm, rank_offsets, std::span(corners), std::span<const Xyz>(run));
+  const auto positions = fetch_level_positions(comm, level, corners);
   return geom::LocalSurface::assemble(
       std::move(ids), triangle_corners, std::move(creases), [&](std::size_t k, int c) {
-        const Xyz& p = positions[std::size_t(
+        return positions[std::size_t(
             std::lower_bound(corners.begin(), corners.end(), triangle_corners[k][std::size_t(c)]) -
             corners.begin())];
-        return geom::Vec3(p.x, p.y, p.z);
       });
 }
 

@@ -13,15 +13,14 @@
 
 namespace texsim::pipelines::surface_synthesis {
 
-/// The triangles of `triangles` (a level split over the ranks) with a corner in this rank's run
-/// [rank_offsets[r], rank_offsets[r + 1]), by increasing id, with local vertices by increasing
-/// id (geom::LocalSurface): every rank sends each of its share's triangles (corner ids) to the
-/// owners of its corners, and the corners' positions come from their owners' `run_positions`.
-/// Algorithms that depend only on the order and corners of a vertex's triangles (vertex normals,
-/// 1-rings) give the whole level's bits on it for the run's vertices. Collective.
-geom::LocalSurface run_star(const par::Comm& comm, const geom::DistributedTriangles& triangles,
-                            std::span<const std::int64_t> rank_offsets,
-                            std::span<const geom::Vec3> run_positions);
+/// The triangles of `level` with a corner in this rank's run, by increasing id, with local
+/// vertices by increasing id (geom::LocalSurface): every rank sends each of its share of the
+/// level's triangles (corner ids) to the owners of its corners, and the corners' positions come
+/// from their owners' runs. Needs the level's triangles, runs and positions (distribute_level
+/// makes RetiledLevel::star with it). Algorithms that depend only on the order and corners of a
+/// vertex's triangles (vertex normals, 1-rings) give the whole level's bits on it for the run's
+/// vertices. Collective.
+geom::LocalSurface run_star(const par::Comm& comm, const RetiledLevel& level);
 
 /// The local index of level vertex `first` in `star`, checking that the run [first, first +
 /// count) is there as consecutive local vertices (every vertex of a level is in a triangle).
