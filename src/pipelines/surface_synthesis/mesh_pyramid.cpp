@@ -218,16 +218,18 @@ std::vector<geom::Vec3> gather_level_positions(const par::Comm& comm, const Reti
 geom::TriangleMesh gather_level_mesh(const par::Comm& comm, const RetiledLevel& level) {
   geom::TriangleMesh mesh;
   mesh.positions = gather_level_positions(comm, level);
-  std::vector<geom::TriangleRecord> share;
-  for (std::size_t k = 0; k < level.triangles.owned_count(); ++k)
-    share.push_back(level.triangles.owned_record(k));
-  auto records = par::gather_to_root(comm, std::span<const geom::TriangleRecord>(share));
-  std::sort(
-      records.begin(), records.end(),
-      [](const geom::TriangleRecord& a, const geom::TriangleRecord& b) { return a.id < b.id; });
-  for (const auto& r : records)
-    mesh.triangles.push_back(
-        {std::int32_t(r.vertex[0]), std::int32_t(r.vertex[1]), std::int32_t(r.vertex[2])});
+  // Each triangle as its id and corner ids (the positions come by vertex, above).
+  const geom::LocalSurface& own = level.triangles.owned_surface();
+  std::vector<std::array<std::int64_t, 4>> share;
+  for (std::size_t k = 0; k < own.triangle_ids.size(); ++k) {
+    const geom::Triangle& c = own.mesh.triangles[k];
+    share.push_back({own.triangle_ids[k], own.vertex_ids[std::size_t(c[0])],
+                     own.vertex_ids[std::size_t(c[1])], own.vertex_ids[std::size_t(c[2])]});
+  }
+  auto triangles = par::gather_to_root(comm, std::span<const std::array<std::int64_t, 4>>(share));
+  std::sort(triangles.begin(), triangles.end()); // by id
+  for (const auto& t : triangles)
+    mesh.triangles.push_back({std::int32_t(t[1]), std::int32_t(t[2]), std::int32_t(t[3])});
   return mesh;
 }
 
