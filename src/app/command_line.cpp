@@ -5,6 +5,7 @@
 #include "core/input_file.hpp"
 
 #include <array>
+#include <utility>
 
 namespace texsim::app {
 namespace {
@@ -38,7 +39,7 @@ std::string usage_text() {
 
 usage:
   texsim CONFIG.yaml [--set key.path=value ...] [--restart [CHECKPOINT]] [--quiet] [PETSc options]
-  texsim validate CONFIG.yaml [--set key.path=value ...]
+  texsim validate CONFIG.yaml [CONFIG.yaml ...] [--set key.path=value ...]
   texsim --help | --version
 
   CONFIG.yaml        the run's configuration; `pipeline:` selects the method
@@ -102,10 +103,11 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   }
   if (positional.empty())
     throw InputError("no config file given; usage: texsim CONFIG.yaml (see texsim --help)");
-  if (positional.size() > 1)
+  if (positional.size() > 1 && line.command != Command::kValidate)
     throw InputError("expected one config file, got '" + shortened(positional[0]) + "' and '" +
-                     shortened(positional[1]) + "' (see texsim --help)");
-  line.config_path = positional.front();
+                     shortened(positional[1]) +
+                     "' (see texsim --help; `texsim validate` takes several)");
+  line.config_paths = std::move(positional);
   return line;
 }
 

@@ -11,9 +11,9 @@ enum class Command { kRun, kValidate, kHelp, kVersion };
 
 struct CommandLine {
   Command command = Command::kRun;
-  std::string config_path;
-  std::vector<std::string> overrides; ///< --set key.path=value, in order
-  std::optional<std::string> restart; ///< --restart: "latest" unless a checkpoint path follows
+  std::vector<std::string> config_paths; ///< exactly one, or several for `validate`
+  std::vector<std::string> overrides;    ///< --set key.path=value, in order
+  std::optional<std::string> restart;    ///< --restart: "latest" unless a checkpoint path follows
   bool quiet = false;
   std::vector<std::string> petsc_args; ///< argv[0] followed by the PETSc options
 };

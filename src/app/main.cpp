@@ -54,12 +54,13 @@ void print_version() {
 }
 
 /// The config after --set overrides, validated on rank 0 and broadcast as YAML text.
-std::string read_config_on_root(const par::Comm& comm, const CommandLine& line) {
+std::string read_config_on_root(const par::Comm& comm, const CommandLine& line,
+                                const std::string& config_path) {
   std::string text;
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
       return;
-    auto document = ConfigDocument::load(line.config_path);
+    auto document = ConfigDocument::load(config_path);
     for (const auto& assignment : line.overrides)
       document.set_override(assignment);
     text = document.emit();
@@ -77,10 +78,11 @@ struct ConfiguredRun {
 };
 
 /// Builds the typed settings from the broadcast text on every rank; unknown keys are errors.
-ConfiguredRun configure(const par::Comm& comm, const std::string& text, const CommandLine& line) {
+ConfiguredRun configure(const par::Comm& comm, const std::string& text, const CommandLine& line,
+                        const std::string& config_path) {
   ConfiguredRun run;
   par::run_collectively(comm, [&] {
-    auto document = ConfigDocument::parse(text, line.config_path);
+    auto document = ConfigDocument::parse(text, config_path);
     auto root = document.root();
     run.common = read_common_config(root);
     run.common.run.restart = line.restart;
@@ -105,18 +107,36 @@ void insert_petsc_options(const std::map<std::string, std::string>& options) {
   }
 }
 
+/// `texsim validate`: each config read, configured and its memory estimated, as a run would,
+/// without the work. With several configs, an error names the file it comes from.
+void validate(const par::Comm& comm, const CommandLine& line) {
+  for (const std::string& config_path : line.config_paths) {
+    try {
+      const std::string text = read_config_on_root(comm, line, config_path);
+      ConfiguredRun run = configure(comm, text, line, config_path);
+      MemoryEstimate memory;
+      par::run_collectively(comm, [&] { memory = run.pipeline->estimate_memory(comm.size); });
+      log::info(log::cat(config_path, ": valid ", run.common.pipeline, " config (config hash ",
+                         run.common.run.config_hash, ")\n", memory_summary(comm, memory), "\n---\n",
+                         text));
+    } catch (const InputError& error) {
+      if (line.config_paths.size() == 1)
+        throw;
+      InputError named(config_path + ": " + error.what());
+      if (error.on_all_ranks())
+        named.mark_on_all_ranks();
+      throw named;
+    }
+  }
+}
+
 int execute(const par::Comm& comm, const CommandLine& line) {
   const double start_s = wall_seconds();
-  const std::string text = read_config_on_root(comm, line);
-  ConfiguredRun run = configure(comm, text, line);
+  const std::string& config_path = line.config_paths.front();
+  const std::string text = read_config_on_root(comm, line, config_path);
+  ConfiguredRun run = configure(comm, text, line, config_path);
   MemoryEstimate memory;
   par::run_collectively(comm, [&] { memory = run.pipeline->estimate_memory(comm.size); });
-  if (line.command == Command::kValidate) {
-    log::info(log::cat(line.config_path, ": valid ", run.common.pipeline, " config (config hash ",
-                       run.common.run.config_hash, ")\n", memory_summary(comm, memory), "\n---\n",
-                       text));
-    return 0;
-  }
   require_memory_per_rank(comm, memory);
   insert_petsc_options(run.common.petsc);
   check_petsc_options(comm);
@@ -191,6 +211,8 @@ int main(int argc, char** argv) {
       } else if (line.command == app::Command::kVersion) {
         if (comm.is_root())
           app::print_version();
+      } else if (line.command == app::Command::kValidate) {
+        app::validate(comm, line);
       } else {
         exit_code = app::execute(comm, line);
       }

@@ -51,7 +51,7 @@ TEST(Cli, ParsesOwnOptionsAndPassesPetscOptionsOn) {
   const char* argv[] = {"texsim",    "run.yaml", "--set", "a.b=1",   "-ksp_type", "cg",
                         "--restart", "-pc_type", "gamg",  "--quiet", "-ksp_view"};
   const auto line = texsim::app::parse_command_line(11, argv);
-  EXPECT_EQ(line.config_path, "run.yaml");
+  EXPECT_EQ(line.config_paths, std::vector<std::string>{"run.yaml"});
   EXPECT_EQ(line.overrides, std::vector<std::string>{"a.b=1"});
   EXPECT_EQ(line.restart, "latest");
   EXPECT_TRUE(line.quiet);
@@ -99,6 +99,24 @@ TEST(Cli, UnknownKeyGetsDidYouMean) {
       << outcome.output;
 }
 
+TEST(Cli, ValidateTakesSeveralConfigsAndNamesTheInvalidOne) {
+  const auto dir = scratch("several");
+  const auto typo = write_file(dir / "typo.yaml", "pipeline: mesh_prep\nseeed: 4\n"
+                                                  "mesh_prep: {input: {generator: torus}}\n");
+  const auto valid = source("config/mesh_prep/smoke.yaml").string();
+  const auto outcome = run_command(texsim_under_mpirun(2) + " validate " + valid + " " +
+                                   typo.string() + " " + valid);
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.output.find(valid + ": valid mesh_prep config"), std::string::npos)
+      << outcome.output;
+  EXPECT_NE(outcome.output.find("typo.yaml: unknown key 'seeed'"), std::string::npos)
+      << outcome.output;
+  EXPECT_EQ(outcome.output.find("MPI_ABORT"), std::string::npos) << outcome.output;
+  const auto first = outcome.output.find(valid + ": valid");
+  EXPECT_EQ(outcome.output.find(valid + ": valid", first + 1), std::string::npos)
+      << "validation went on past the invalid config";
+}
+
 TEST(Cli, UnknownPipelineListsTheRegisteredOnes) {
   const auto dir = scratch("unknown_pipeline");
   const auto config = write_file(dir / "p.yaml", "pipeline: warp_drive\n");
@@ -132,13 +150,14 @@ std::vector<fs::path> shipped_configs(bool naming_data) {
   return configs;
 }
 
+/// All of them in one `texsim validate`, which names the first invalid one.
 void expect_valid(const std::vector<fs::path>& configs) {
   ASSERT_FALSE(configs.empty());
-  for (const auto& config : configs) {
-    const auto outcome =
-        run_command(texsim_command() + " validate --quiet " + config.string(), source(""));
-    EXPECT_EQ(outcome.exit_code, 0) << config << ":\n" << outcome.output;
-  }
+  std::string command = texsim_command() + " validate --quiet";
+  for (const auto& config : configs)
+    command.append(" ").append(config.string());
+  const auto outcome = run_command(command, source(""));
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
 }
 
 TEST(Cli, EveryShippedConfigWithoutDataValidates) {
