@@ -10,6 +10,7 @@
 #include "par/record_exchange.hpp"
 
 #include <Eigen/Geometry>
+#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -388,16 +389,28 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
 
   const MeetingTriangulator triangulator(surface, seeds, seed_ids, input);
   const auto& meetings = input.meetings;
-  std::vector<std::vector<Triangle>> found(meetings.size());
+  // Each thread keeps its meetings' sightings in one vector (not a vector per meeting, which cost
+  // more than the sightings themselves). The order in which they are joined does not matter: the
+  // sort groups equal triangles, whose vertices are the same and whose votes are summed.
+  std::vector<std::vector<Sighting>> per_thread(static_cast<std::size_t>(omp_get_max_threads()));
   const auto count = static_cast<std::int64_t>(meetings.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t m = 0; m < count; ++m)
-    found[std::size_t(m)] = triangulator.triangles(meetings[std::size_t(m)]);
-
+#pragma omp parallel
+  {
+    std::vector<Sighting>& mine = per_thread[std::size_t(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (std::int64_t m = 0; m < count; ++m)
+      for (const Triangle& t : triangulator.triangles(meetings[std::size_t(m)]))
+        mine.push_back(sighting_of(t, seed_ids));
+  }
+  std::size_t total = 0;
+  for (const auto& part : per_thread)
+    total += part.size();
   std::vector<Sighting> sightings;
-  for (const auto& triangles : found)
-    for (const Triangle& t : triangles)
-      sightings.push_back(sighting_of(t, seed_ids));
+  sightings.reserve(total);
+  for (auto& part : per_thread) {
+    sightings.insert(sightings.end(), part.begin(), part.end());
+    part = std::vector<Sighting>();
+  }
   std::sort(sightings.begin(), sightings.end(),
             [](const Sighting& x, const Sighting& y) { return x.ids < y.ids; });
 
@@ -415,10 +428,20 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return mesh;
 }
 
+/// The counts at the head of a serialized dual input: pieces, borders, meetings, neighbour pairs.
+using DualInputCounts = std::array<std::uint64_t, 4>;
+
 /// A rank's dual input on the wire: counts, then the pieces (borders counted, not indexed), the
 /// borders, the meetings and the neighbour pairs, as plain numbers.
 std::vector<std::byte> serialize(const DualInput& input) {
   std::vector<std::byte> bytes;
+  constexpr std::size_t kPieceBytes =
+      2 * sizeof(std::int32_t) + sizeof(double) + sizeof(std::uint32_t) + sizeof(std::uint8_t);
+  constexpr std::size_t kBorderBytes = sizeof(std::int32_t) + sizeof(double);
+  constexpr std::size_t kMeetingBytes = 3 * sizeof(std::int32_t) + 3 * sizeof(double);
+  bytes.reserve(sizeof(DualInputCounts) + input.pieces.size() * kPieceBytes +
+                input.borders.size() * kBorderBytes + input.meetings.size() * kMeetingBytes +
+                input.neighbour_pairs.size() * 2 * sizeof(std::int32_t));
   const auto put = [&bytes](const auto& value) {
     const auto* raw = reinterpret_cast<const std::byte*>(&value);
     bytes.insert(bytes.end(), raw, raw + sizeof(value));
@@ -451,6 +474,23 @@ std::vector<std::byte> serialize(const DualInput& input) {
     put(to);
   }
   return bytes;
+}
+
+/// Reserves on rank 0 room in `input` for every rank's serialized part (`mine` on each rank), so
+/// that appending them does not grow the vectors by doubling: up to twice their size, and both
+/// copies while one grows. Collective.
+void reserve_for_parts(const par::Comm& comm, std::span<const std::byte> mine, DualInput& input) {
+  DualInputCounts counts{};
+  std::memcpy(counts.data(), mine.data(), sizeof(counts));
+  const auto all = par::gather_to_root(comm, std::span<const DualInputCounts>(&counts, 1));
+  DualInputCounts total{};
+  for (const DualInputCounts& part : all)
+    for (std::size_t k = 0; k < total.size(); ++k)
+      total[k] += part[k];
+  input.pieces.reserve(total[0]);
+  input.borders.reserve(total[1]);
+  input.meetings.reserve(total[2]);
+  input.neighbour_pairs.reserve(total[3]);
 }
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
@@ -545,13 +585,17 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   }
   // The pieces depend only on a triangle's corners and the seeds, so each rank's are the bits the
   // whole surface gives; rank 0 appends them in rank order, which is the serial order.
-  std::vector<std::byte> bytes;
-  par::run_collectively(
-      comm, [&] { bytes = serialize(dual_input(share, seeds, seed_ids, chunk_triangles)); });
   DualInput input;
-  par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
-    append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
-  });
+  {
+    std::vector<std::byte> bytes;
+    par::run_collectively(
+        comm, [&] { bytes = serialize(dual_input(share, seeds, seed_ids, chunk_triangles)); });
+    share = TriangleMesh();
+    reserve_for_parts(comm, bytes, input);
+    par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
+      append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
+    });
+  } // rank 0's own serialized part is gone before the join
   auto& pairs = input.neighbour_pairs;
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
