@@ -50,17 +50,30 @@ void add_sample(const SampleWeights& sample, std::span<const img::Rgb> colours,
   }
 }
 
-/// The distinct vertex ids of `samples`' covered samples that `keep` accepts, increasing.
+/// The distinct vertex ids of `samples`' covered samples that `keep` accepts, increasing. The ids
+/// are merged into the sorted distinct ones every so often, so the list never holds every
+/// sample's three ids (there are tens of samples per distinct vertex).
 template <class Keep>
 std::vector<std::int64_t> sampled_vertices(std::span<const SampleWeights> samples, Keep keep) {
+  constexpr std::size_t kMergeEvery = std::size_t{1} << 16;
   std::vector<std::int64_t> ids;
+  std::size_t distinct = 0; // ids[0, distinct) are sorted and distinct
+  const auto merge = [&] {
+    const auto middle = ids.begin() + std::ptrdiff_t(distinct);
+    std::sort(middle, ids.end());
+    std::inplace_merge(ids.begin(), middle, ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    distinct = ids.size();
+  };
   for (const auto& sample : samples)
     if (sample.covered())
       for (const auto v : sample.vertices)
-        if (keep(v))
+        if (keep(v)) {
           ids.push_back(v);
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+          if (ids.size() >= 2 * distinct + kMergeEvery)
+            merge();
+        }
+  merge();
   return ids;
 }
 
