@@ -3,10 +3,13 @@
 #include "core/error.hpp"
 #include "geom/distributed_triangles.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/point_halo.hpp"
 #include "geom/restricted_voronoi.hpp"
+#include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
 #include "par/gather_to_root.hpp"
 #include "par/id_runs.hpp"
+#include "par/morton_partition.hpp"
 #include "par/record_exchange.hpp"
 
 #include <Eigen/Geometry>
@@ -65,6 +68,8 @@ struct DualInput {
   std::vector<Meeting> meetings;
   /// (seed, seed) pairs whose cells share a border somewhere, both ways, sorted and unique.
   std::vector<std::pair<std::int32_t, std::int32_t>> neighbour_pairs;
+  /// The largest distance from a piece's seed to its polygon's vertices (not sent).
+  double largest_piece_radius = 0.0;
 };
 
 /// The sides of its triangle along which `piece`'s boundary edges (label -1) run: for each such
@@ -365,9 +370,24 @@ Sighting sighting_of(const Triangle& t, std::span<const std::int64_t> seed_ids) 
           same_cycle ? 1 : -1};
 }
 
-/// The dual input of every triangle of `surface`, computed `chunk_triangles` at a time.
+/// `piece` with its seed indices (its own, its borders', its edges') replaced by `global[index]`,
+/// the borders sorted again by them.
+void renumber_seeds(VoronoiPiece& piece, std::span<const std::int32_t> global) {
+  piece.seed = global[std::size_t(piece.seed)];
+  for (auto& border : piece.borders)
+    border.first = global[std::size_t(border.first)];
+  std::sort(piece.borders.begin(), piece.borders.end());
+  for (std::int32_t& label : piece.edge_labels)
+    if (label >= 0)
+      label = global[std::size_t(label)];
+}
+
+/// The dual input of every triangle of `surface`, computed `chunk_triangles` at a time. With
+/// `global` (one entry per seed), the seeds are a part of a larger set and the dual input speaks
+/// that set's indices: seed index i becomes global[i].
 DualInput dual_input(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                     std::span<const std::int64_t> seed_ids, std::int32_t chunk_triangles) {
+                     std::span<const std::int64_t> seed_ids, std::int32_t chunk_triangles,
+                     std::span<const std::int32_t> global = {}) {
   TEXSIM_VERIFY(chunk_triangles > 0,
                 "restricted_delaunay: chunk_triangles " << chunk_triangles << " is not positive");
   DualInput input;
@@ -375,7 +395,15 @@ DualInput dual_input(const TriangleMesh& surface, std::span<const Vec3> seeds,
   for (std::int32_t first = 0; first < surface.num_triangles(); first += chunk_triangles) {
     chunk.resize(std::size_t(std::min(chunk_triangles, surface.num_triangles() - first)));
     std::iota(chunk.begin(), chunk.end(), first);
-    add_pieces(surface, restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true), input);
+    auto pieces = restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true);
+    for (VoronoiPiece& piece : pieces) {
+      for (const Vec3& corner : piece.polygon)
+        input.largest_piece_radius =
+            std::max(input.largest_piece_radius, (corner - seeds[std::size_t(piece.seed)]).norm());
+      if (!global.empty())
+        renumber_seeds(piece, global);
+    }
+    add_pieces(surface, pieces, input);
   }
   return input;
 }
@@ -552,24 +580,52 @@ void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualI
   TEXSIM_VERIFY(at == bytes.size(), "restricted_delaunay: a rank's dual input has trailing bytes");
 }
 
-} // namespace
+/// Seeds a rank cuts its triangles against, and each one's index among all seeds (rank order).
+struct SeedView {
+  std::vector<Vec3> positions;
+  std::vector<std::int64_t> ids;
+  std::vector<std::int32_t> global;
+};
 
-TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids,
-                                 std::int32_t chunk_triangles) {
-  return dual_mesh(surface, seeds, seed_ids, dual_input(surface, seeds, seed_ids, chunk_triangles));
+/// Where each rank's run of the seeds starts among all of them (an O(ranks) table).
+std::vector<std::int64_t> run_offsets(const par::Comm& comm, std::size_t count) {
+  std::vector<std::int64_t> offsets(std::size_t(comm.size) + 1, 0);
+  const auto mine = std::int64_t(count);
+  MPI_Allgather(&mine, 1, MPI_INT64_T, offsets.data() + 1, 1, MPI_INT64_T, comm.raw);
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  return offsets;
 }
 
-TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
-                                 std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids,
-                                 std::int32_t chunk_triangles) {
-  // Rank 0 sends every rank an equal run of its triangles, as corner positions.
+/// `surface` with its triangles in the order of their centroids' Morton keys (ties: index).
+TriangleMesh along_morton_curve(const TriangleMesh& surface) {
+  std::vector<std::array<double, 3>> centroids;
+  for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+    const auto corners = corners_of(surface, t);
+    centroids.push_back({(corners[0] + corners[3] + corners[6]) / 3.0,
+                         (corners[1] + corners[4] + corners[7]) / 3.0,
+                         (corners[2] + corners[5] + corners[8]) / 3.0});
+  }
+  const auto keys = par::morton_keys(centroids);
+  centroids = {};
+  std::vector<std::size_t> order(surface.triangles.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+  });
+  TriangleMesh curve;
+  curve.positions = surface.positions;
+  for (const std::size_t t : order)
+    curve.triangles.push_back(surface.triangles[t]);
+  return curve;
+}
+
+/// This rank's even run of rank 0's triangles, as separate corners: rank 0 sends each rank its run
+/// as corner positions.
+TriangleMesh triangles_from_root(const par::Comm& comm, const TriangleMesh& root_surface) {
   using Corners = std::array<double, 9>;
   std::vector<std::vector<Corners>> outgoing(std::size_t(comm.size));
-  std::int64_t triangles = 0;
   if (comm.is_root()) {
-    triangles = root_surface.num_triangles();
+    const std::int64_t triangles = root_surface.num_triangles();
     for (int r = 0; r < comm.size; ++r)
       for (auto t = par::even_run_begin(triangles, r, comm.size);
            t < par::even_run_begin(triangles, r + 1, comm.size); ++t)
@@ -583,14 +639,139 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
       share.positions.emplace_back(corners[3 * c], corners[3 * c + 1], corners[3 * c + 2]);
     share.triangles.push_back({first, first + 1, first + 2});
   }
-  // The pieces depend only on a triangle's corners and the seeds, so each rank's are the bits the
-  // whole surface gives; rank 0 appends them in rank order, which is the serial order.
+  return share;
+}
+
+/// Boxes holding every point within `halo` of a share's triangles (corners 3 t, 3 t + 1, 3 t + 2):
+/// every point of a triangle lies within its longest edge of a corner, so boxes around the
+/// corners grown by halo + that edge hold them (one box per occupied grid cell, as SurfaceCells'
+/// halo). Triangles with an edge longer than halo / 4 (slivers, filled holes) get a box of their
+/// own, so that a few long edges do not widen every box.
+std::vector<Box3> halo_boxes(const TriangleMesh& share, double halo) {
+  const double long_edge = halo / 4.0;
+  std::vector<Vec3> corners;
+  std::vector<Box3> boxes;
+  double longest_short = 0.0;
+  for (std::size_t t = 0; t < share.triangles.size(); ++t) {
+    const std::span<const Vec3> triangle(share.positions.data() + 3 * t, 3);
+    double longest = 0.0;
+    for (std::size_t c = 0; c < 3; ++c)
+      longest = std::max(longest, (triangle[c] - triangle[(c + 1) % 3]).norm());
+    if (longest > long_edge) {
+      boxes.push_back(Box3::around(triangle).expanded(halo + longest));
+    } else {
+      corners.insert(corners.end(), triangle.begin(), triangle.end());
+      longest_short = std::max(longest_short, longest);
+    }
+  }
+  const double reach = halo + longest_short;
+  const auto covering = covering_boxes(corners, 3.0 * reach, reach);
+  boxes.insert(boxes.end(), covering.begin(), covering.end());
+  return boxes;
+}
+
+/// This rank's seeds and the other ranks' within `halo` of its triangles. Collective.
+SeedView seeds_near(const par::Comm& comm, const TriangleMesh& share,
+                    std::span<const Vec3> run_seeds, std::span<const std::int64_t> run_ids,
+                    std::span<const std::int64_t> seed_offsets, double halo) {
+  const auto halo_seeds = exchange_point_halo(comm, run_ids, run_seeds, halo_boxes(share, halo));
+  SeedView view;
+  const std::int64_t first = seed_offsets[std::size_t(comm.rank)];
+  for (std::size_t i = 0; i < run_seeds.size(); ++i) {
+    view.positions.push_back(run_seeds[i]);
+    view.ids.push_back(run_ids[i]);
+    view.global.push_back(std::int32_t(first + std::int64_t(i)));
+  }
+  for (const HaloPoint& seed : halo_seeds) {
+    view.positions.push_back(seed.position);
+    view.ids.push_back(seed.id);
+    view.global.push_back(std::int32_t(seed_offsets[std::size_t(seed.owner)] + seed.owner_index));
+  }
+  return view;
+}
+
+/// Every rank's seeds on every rank, in rank order. Collective.
+SeedView every_seed(const par::Comm& comm, std::span<const Vec3> run_seeds,
+                    std::span<const std::int64_t> run_ids,
+                    std::span<const std::int64_t> seed_offsets) {
+  SeedView all;
+  const auto total = std::size_t(seed_offsets.back());
+  const auto first = std::ptrdiff_t(seed_offsets[std::size_t(comm.rank)]);
+  all.positions.resize(total);
+  all.ids.resize(total);
+  std::copy(run_seeds.begin(), run_seeds.end(), all.positions.begin() + first);
+  std::copy(run_ids.begin(), run_ids.end(), all.ids.begin() + first);
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  par::allgather_runs(comm, seed_offsets, all.positions.data(), 3, MPI_DOUBLE);
+  par::allgather_runs(comm, seed_offsets, all.ids.data(), 1, MPI_INT64_T);
+  return all;
+}
+
+/// Every rank's seeds on rank 0, in rank order (nothing on the others). Collective.
+SeedView seeds_on_root(const par::Comm& comm, std::span<const Vec3> run_seeds,
+                       std::span<const std::int64_t> run_ids) {
+  std::vector<std::array<double, 3>> mine;
+  for (const Vec3& seed : run_seeds)
+    mine.push_back({seed.x(), seed.y(), seed.z()});
+  SeedView all;
+  for (const auto& xyz : par::gather_to_root(comm, std::span<const std::array<double, 3>>(mine)))
+    all.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+  all.ids = par::gather_to_root(comm, run_ids);
+  return all;
+}
+
+} // namespace
+
+TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
+                                 std::span<const std::int64_t> seed_ids,
+                                 std::int32_t chunk_triangles) {
+  return dual_mesh(surface, seeds, seed_ids, dual_input(surface, seeds, seed_ids, chunk_triangles));
+}
+
+TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
+                                 std::span<const Vec3> run_seeds,
+                                 std::span<const std::int64_t> run_ids, double halo,
+                                 std::int32_t chunk_triangles, SeedHaloReport* report) {
+  TEXSIM_VERIFY(run_seeds.size() == run_ids.size(),
+                "restricted_delaunay: " << run_seeds.size() << " seeds and " << run_ids.size()
+                                        << " ids");
+  const std::vector<std::int64_t> seed_offsets = run_offsets(comm, run_seeds.size());
+  // The triangles along a Morton curve, so that each rank's run is a compact patch whose halo of
+  // seeds is small; the result does not depend on the triangles' order.
+  TriangleMesh curve;
+  if (comm.is_root())
+    curve = along_morton_curve(root_surface);
+  const TriangleMesh share = triangles_from_root(comm, curve);
+  // The pieces depend only on a triangle's corners and the seeds that clip them, so each rank's
+  // are the bits the whole surface gives; rank 0 appends them in rank order, the serial order.
+  DualInput mine;
+  bool enough = true;
+  SeedHaloReport cut_against;
+  {
+    const SeedView near = seeds_near(comm, share, run_seeds, run_ids, seed_offsets, halo);
+    cut_against.seeds = std::int64_t(near.positions.size());
+    try {
+      mine = dual_input(share, near.positions, near.ids, chunk_triangles, near.global);
+      enough = 3.0 * mine.largest_piece_radius <= halo;
+    } catch (const Error&) {
+      enough = false; // not certified with the halo's seeds; the retry below reports real errors
+    }
+  }
+  int everywhere = enough ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &everywhere, 1, MPI_INT, MPI_MIN, comm.raw);
+  if (everywhere == 0) {
+    const SeedView all = every_seed(comm, run_seeds, run_ids, seed_offsets);
+    cut_against = {std::int64_t(all.positions.size()), true};
+    par::run_collectively(
+        comm, [&] { mine = dual_input(share, all.positions, all.ids, chunk_triangles); });
+  }
+  if (report)
+    *report = cut_against;
+  const std::int64_t triangles = curve.num_triangles();
   DualInput input;
   {
-    std::vector<std::byte> bytes;
-    par::run_collectively(
-        comm, [&] { bytes = serialize(dual_input(share, seeds, seed_ids, chunk_triangles)); });
-    share = TriangleMesh();
+    std::vector<std::byte> bytes = serialize(mine);
+    mine = DualInput();
     reserve_for_parts(comm, bytes, input);
     par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
       append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
@@ -599,10 +780,11 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   auto& pairs = input.neighbour_pairs;
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const SeedView all_on_root = seeds_on_root(comm, run_seeds, run_ids);
   TriangleMesh mesh;
   par::run_collectively(comm, [&] {
     if (comm.is_root())
-      mesh = dual_mesh(root_surface, seeds, seed_ids, input);
+      mesh = dual_mesh(curve, all_on_root.positions, all_on_root.ids, input);
   });
   return mesh;
 }

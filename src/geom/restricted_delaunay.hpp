@@ -56,15 +56,32 @@ TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Ve
                                  std::span<const std::int64_t> seed_ids,
                                  std::int32_t chunk_triangles = kRestrictedDelaunayChunk);
 
-/// The same result on rank 0 (an empty mesh on the others), with the Voronoi pieces, most of the
-/// work, computed by every rank on an equal run of `root_surface`'s triangles, which rank 0 alone
-/// holds (the others pass an empty mesh) and sends as corner positions. Every rank passes all
-/// seeds and ids. The pieces of a triangle depend only on its corners and the seeds, so the result
-/// is the serial one, bit for bit, at any rank count. Rank 0 then joins the pieces into cells and
-/// triangles as above. A failure on any rank throws on every rank. Collective.
+/// What a rank cut its triangles against in the parallel restricted_delaunay.
+struct SeedHaloReport {
+  std::int64_t seeds = 0;  ///< its own seeds and the halo's, or every seed
+  bool every_seed = false; ///< some rank's check failed: every rank cut against every seed
+};
+
+/// The same result on rank 0 (an empty mesh on the others), computed by every rank. Rank 0 alone
+/// holds `root_surface` (the others pass an empty mesh); each rank passes its run of the seeds
+/// (`run_seeds`, their ids `run_ids`): vertex i of the result is the i-th seed of the runs in rank
+/// order. Rank 0 puts its triangles in order along a Morton curve of their centroids and sends
+/// every rank an equal run of that order as corner positions; each rank cuts them into Voronoi
+/// pieces (most of the work) against its own seeds and the other ranks' within `halo` of its
+/// triangles. That is exactly the cut against every seed when 3 R <= halo, R the largest piece
+/// radius (farthest polygon vertex from the piece's seed): a seed that clips a piece of triangle
+/// T, or that the cut asks before it certifies the piece, lies within 2 (R + E) of the piece's
+/// seed (E: T's longest edge), and the halo around T is grown by E too. Each rank checks it on
+/// the pieces it cut; when any rank's check fails, or its seeds cannot certify a cell, every rank
+/// cuts again against every seed (gathered on every rank). Rank 0 then gathers the pieces'
+/// summaries and the seeds and joins them as above, on the surface in curve order: the result
+/// does not depend on the rank count, and is the serial one (which does not depend on the
+/// triangles' order). A failure on any rank throws on every rank. `report`, when given, says what
+/// this rank cut against. Collective.
 TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
-                                 std::span<const Vec3> seeds,
-                                 std::span<const std::int64_t> seed_ids,
-                                 std::int32_t chunk_triangles = kRestrictedDelaunayChunk);
+                                 std::span<const Vec3> run_seeds,
+                                 std::span<const std::int64_t> run_ids, double halo,
+                                 std::int32_t chunk_triangles = kRestrictedDelaunayChunk,
+                                 SeedHaloReport* report = nullptr);
 
 } // namespace texsim::geom

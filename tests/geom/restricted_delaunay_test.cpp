@@ -6,10 +6,12 @@
 #include "core/rng.hpp"
 #include "geom/aabb_tree.hpp"
 #include "geom/generators.hpp"
+#include "geom/mesh_measures.hpp"
 #include "geom/mesh_topology.hpp"
 #include "geom/point_relaxation.hpp"
 #include "geom/restricted_delaunay.hpp"
 #include "geom/restricted_voronoi.hpp"
+#include "par/id_runs.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -159,29 +161,65 @@ TEST(RestrictedDelaunay, IndependentOfTriangleOrderSeedOrderAndThreads) {
         << "chunks of " << chunk << " triangles";
 }
 
+/// Rank r's even run of `all`.
+template <class T> std::vector<T> even_run(const par::Comm& comm, const std::vector<T>& all) {
+  const auto size = std::int64_t(all.size());
+  return {all.begin() + par::even_run_begin(size, comm.rank, comm.size),
+          all.begin() + par::even_run_begin(size, comm.rank + 1, comm.size)};
+}
+
 TEST(RestrictedDelaunay, PiecesCutOnEveryRankGiveTheSerialMesh) {
-  // Only rank 0 passes the surface; every rank cuts the pieces of its run of triangles. Chunks of
-  // 7 triangles also split each rank's run; the hand-overs of the ring's twice-met cells join
-  // pieces from different ranks.
+  // Only rank 0 passes the surface; every rank cuts the pieces of its run of triangles against
+  // its run of the seeds and a halo of the others'. Chunks of 7 triangles also split each rank's
+  // run; the hand-overs of the ring's twice-met cells join pieces from different ranks.
   const par::Comm world = par::world();
   const TriangleMesh ring = noisy(icosphere(4), 0.05, 3);
   const Seeds seeds = relaxed_seeds(ring, 1500, 2);
-  const TriangleMesh reference = restricted_delaunay(ring, seeds.points, seeds.ids);
-  for (const std::int32_t chunk : {7, kRestrictedDelaunayChunk}) {
-    const TriangleMesh distributed = restricted_delaunay(
-        world, world.is_root() ? ring : TriangleMesh{}, seeds.points, seeds.ids, chunk);
-    if (world.is_root()) {
-      EXPECT_EQ(distributed.positions, reference.positions);
-      EXPECT_EQ(distributed.triangles, reference.triangles) << "chunks of " << chunk;
-    } else {
-      EXPECT_EQ(distributed.num_triangles(), 0);
-    }
+  // The seeds sorted by x, as runs of ranks: each run is a slab of the ring. The serial mesh of
+  // the sorted seeds is the reference (sorting them only renumbers its vertices).
+  std::vector<std::size_t> order(seeds.points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](auto a, auto b) { return seeds.points[a].x() < seeds.points[b].x(); });
+  std::vector<Vec3> sorted_points;
+  std::vector<std::int64_t> sorted_ids;
+  for (const auto i : order) {
+    sorted_points.push_back(seeds.points[i]);
+    sorted_ids.push_back(seeds.ids[i]);
   }
+  const TriangleMesh reference = restricted_delaunay(ring, sorted_points, sorted_ids);
+  const double spacing = std::sqrt(total_area(ring) / double(seeds.points.size()));
+  const auto run_points = even_run(world, sorted_points);
+  const auto run_ids = even_run(world, sorted_ids);
+  // 6 spacings: the halo suffices; half a spacing does not, and every rank cuts against every
+  // seed.
+  for (const double halo : {6 * spacing, 0.5 * spacing})
+    for (const std::int32_t chunk : {7, kRestrictedDelaunayChunk}) {
+      SeedHaloReport report;
+      const TriangleMesh distributed =
+          restricted_delaunay(world, world.is_root() ? ring : TriangleMesh{}, run_points, run_ids,
+                              halo, chunk, &report);
+      const bool narrow = halo < spacing;
+      EXPECT_EQ(report.every_seed, narrow) << "halo " << halo;
+      std::int64_t fewest = report.seeds;
+      MPI_Allreduce(MPI_IN_PLACE, &fewest, 1, MPI_INT64_T, MPI_MIN, world.raw);
+      if (world.size > 1 && !narrow) {
+        EXPECT_LT(fewest, std::int64_t(seeds.points.size())) << "every rank's halo is every seed";
+      }
+      if (world.is_root()) {
+        EXPECT_EQ(distributed.positions, reference.positions);
+        EXPECT_EQ(distributed.triangles, reference.triangles)
+            << "halo " << halo << ", chunks of " << chunk;
+      } else {
+        EXPECT_EQ(distributed.num_triangles(), 0);
+      }
+    }
   // A rank's failure (here: a non-finite seed) is every rank's error, not a hang.
-  Seeds broken = seeds;
-  broken.points[7].x() = std::nan("");
-  EXPECT_THROW(restricted_delaunay(world, world.is_root() ? ring : TriangleMesh{}, broken.points,
-                                   broken.ids),
+  auto broken = run_points;
+  if (!broken.empty())
+    broken.front().x() = std::nan("");
+  EXPECT_THROW(restricted_delaunay(world, world.is_root() ? ring : TriangleMesh{}, broken, run_ids,
+                                   6 * spacing),
                Error);
 }
 

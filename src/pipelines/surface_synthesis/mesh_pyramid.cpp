@@ -55,20 +55,6 @@ std::uint64_t level_seed(std::uint64_t seed, int level) {
   return (std::uint64_t{bits[0]} << 32) | bits[1];
 }
 
-/// Every cell's centre, indexed by id, on every rank (geom::restricted_delaunay cuts against all).
-std::vector<geom::Vec3> gather_cell_positions(const par::Comm& comm,
-                                              const geom::SurfaceCells& cells) {
-  std::vector<geom::Vec3> positions(std::size_t(cells.global_count()));
-  for (std::int32_t i = 0; i < cells.owned_count(); ++i) {
-    TEXSIM_VERIFY(cells.ids()[std::size_t(i)] == cells.owned_begin() + i,
-                  "mesh pyramid: owned cell ids are not a contiguous run");
-    positions[std::size_t(cells.owned_begin() + i)] = cells.points()[std::size_t(i)].position;
-  }
-  static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
-  par::allgather_runs(comm, cells.rank_offsets(), positions.data(), 3, MPI_DOUBLE);
-  return positions;
-}
-
 /// What a retiling must share with the input surface: kept instead of the input's whole
 /// MeshTopology, which would stay on rank 0 through every level.
 struct SurfaceShape {
@@ -129,6 +115,8 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
   });
   std::vector<std::int64_t> rank_offsets;
   std::vector<geom::Vec3> centres;
+  std::vector<std::int64_t> ids;
+  double halo = 0.0;
   {
     // Only the cells' runs and centres outlive the retiling (not their Voronoi pieces).
     geom::SurfaceCellsSettings cells_settings = settings.cells;
@@ -138,14 +126,14 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
                                    level_seed(seed, level), cells_settings);
     const auto offsets = cells.rank_offsets();
     rank_offsets.assign(offsets.begin(), offsets.end());
-    centres = gather_cell_positions(comm, cells);
+    for (const auto& point : cells.points())
+      centres.push_back(point.position);
+    ids.assign(cells.ids().begin(), cells.ids().end());
+    halo = cells_settings.halo_spacings * cells.spacing();
   }
-  // Every rank cuts the Voronoi pieces of a share of the surface rank 0 holds, against every
-  // cell's centre (for now gathered on every rank while the level is connected); rank 0
-  // connects the cells.
-  std::vector<std::int64_t> ids(centres.size());
-  std::iota(ids.begin(), ids.end(), std::int64_t{0});
-  geom::TriangleMesh connected = geom::restricted_delaunay(comm, *placed_on, centres, ids);
+  // Every rank cuts the Voronoi pieces of a run of the surface rank 0 holds, against its cells'
+  // centres and the other ranks' within the cells' own halo; rank 0 connects the cells.
+  geom::TriangleMesh connected = geom::restricted_delaunay(comm, *placed_on, centres, ids, halo);
   centres = {};
   ids = {};
   par::run_collectively(comm, [&] {
