@@ -9,7 +9,6 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/mesh_validation.hpp"
 #include "geom/restricted_delaunay.hpp"
-#include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
 #include "par/fetch_from_owners.hpp"
 #include "par/gather_to_root.hpp"
