@@ -596,8 +596,8 @@ std::vector<std::int64_t> run_offsets(const par::Comm& comm, std::size_t count) 
   return offsets;
 }
 
-/// `surface` with its triangles in the order of their centroids' Morton keys (ties: index).
-TriangleMesh along_morton_curve(const TriangleMesh& surface) {
+/// The Morton key of each triangle's centroid inside the centroids' bounding box.
+std::vector<std::uint64_t> centroid_keys(const TriangleMesh& surface) {
   std::vector<std::array<double, 3>> centroids;
   for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
     const auto corners = corners_of(surface, t);
@@ -605,8 +605,12 @@ TriangleMesh along_morton_curve(const TriangleMesh& surface) {
                          (corners[1] + corners[4] + corners[7]) / 3.0,
                          (corners[2] + corners[5] + corners[8]) / 3.0});
   }
-  const auto keys = par::morton_keys(centroids);
-  centroids = {};
+  return par::morton_keys(centroids);
+}
+
+/// `surface` with its triangles in the order of their centroids' Morton keys (ties: index).
+TriangleMesh along_morton_curve(const TriangleMesh& surface) {
+  const auto keys = centroid_keys(surface);
   std::vector<std::size_t> order(surface.triangles.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -614,6 +618,7 @@ TriangleMesh along_morton_curve(const TriangleMesh& surface) {
   });
   TriangleMesh curve;
   curve.positions = surface.positions;
+  curve.triangles.reserve(order.size());
   for (const std::size_t t : order)
     curve.triangles.push_back(surface.triangles[t]);
   return curve;

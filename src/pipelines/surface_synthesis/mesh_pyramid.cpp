@@ -113,28 +113,29 @@ RetiledLevel retile_level(const par::Comm& comm, const geom::TriangleMesh& surfa
     }
   });
   std::vector<std::int64_t> rank_offsets;
-  std::vector<geom::Vec3> centres;
-  std::vector<std::int64_t> ids;
-  double halo = 0.0;
+  geom::TriangleMesh connected;
   {
-    // Only the cells' runs and centres outlive the retiling (not their Voronoi pieces).
-    geom::SurfaceCellsSettings cells_settings = settings.cells;
-    cells_settings.count = count;
-    cells_settings.keep_pieces = false;
-    const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
-                                   level_seed(seed, level), cells_settings);
-    const auto offsets = cells.rank_offsets();
-    rank_offsets.assign(offsets.begin(), offsets.end());
-    for (const auto& point : cells.points())
-      centres.push_back(point.position);
-    ids.assign(cells.ids().begin(), cells.ids().end());
-    halo = cells_settings.halo_spacings * cells.spacing();
+    std::vector<geom::Vec3> centres;
+    std::vector<std::int64_t> ids;
+    double halo = 0.0;
+    {
+      // Only the cells' runs and centres outlive the retiling (not their Voronoi pieces).
+      geom::SurfaceCellsSettings cells_settings = settings.cells;
+      cells_settings.count = count;
+      cells_settings.keep_pieces = false;
+      const geom::SurfaceCells cells(comm, geom::DistributedTriangles::from_root(comm, *placed_on),
+                                     level_seed(seed, level), cells_settings);
+      const auto offsets = cells.rank_offsets();
+      rank_offsets.assign(offsets.begin(), offsets.end());
+      for (const auto& point : cells.points())
+        centres.push_back(point.position);
+      ids.assign(cells.ids().begin(), cells.ids().end());
+      halo = cells_settings.halo_spacings * cells.spacing();
+    }
+    // Every rank cuts the Voronoi pieces of a run of the surface rank 0 holds, against its cells'
+    // centres and the other ranks' within the cells' own halo; rank 0 connects the cells.
+    connected = geom::restricted_delaunay(comm, *placed_on, centres, ids, halo);
   }
-  // Every rank cuts the Voronoi pieces of a run of the surface rank 0 holds, against its cells'
-  // centres and the other ranks' within the cells' own halo; rank 0 connects the cells.
-  geom::TriangleMesh connected = geom::restricted_delaunay(comm, *placed_on, centres, ids, halo);
-  centres = {};
-  ids = {};
   par::run_collectively(comm, [&] {
     if (!comm.is_root())
       return;
