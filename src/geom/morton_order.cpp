@@ -4,6 +4,9 @@
 #include "par/distributed_sort.hpp"
 #include "par/morton_partition.hpp"
 
+#include <algorithm>
+#include <array>
+#include <numeric>
 #include <tuple>
 
 namespace texsim::geom {
@@ -45,14 +48,30 @@ DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Bo
   return sorted;
 }
 
-std::vector<int> morton_triangle_parts(const TriangleMesh& mesh, int parts) {
+namespace {
+std::vector<std::array<double, 3>> triangle_centroids(const TriangleMesh& mesh) {
   std::vector<std::array<double, 3>> centroids(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
     centroids[t] = {c.x(), c.y(), c.z()};
   }
-  return par::morton_partition(centroids, parts);
+  return centroids;
+}
+} // namespace
+
+std::vector<std::size_t> morton_triangle_order(const TriangleMesh& mesh) {
+  const auto keys = par::morton_keys(triangle_centroids(mesh));
+  std::vector<std::size_t> order(keys.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+  });
+  return order;
+}
+
+std::vector<int> morton_triangle_parts(const TriangleMesh& mesh, int parts) {
+  return par::morton_partition(triangle_centroids(mesh), parts);
 }
 
 } // namespace texsim::geom

@@ -17,6 +17,10 @@ namespace texsim::geom {
 DistributedSurfacePoints sort_along_morton_curve(const par::Comm& comm, const Box3& box,
                                                  DistributedSurfacePoints points);
 
+/// The triangles' indices in the order of their centroids' Morton keys inside the centroids'
+/// bounding box (ties: index). Serial.
+std::vector<std::size_t> morton_triangle_order(const TriangleMesh& mesh);
+
 /// The part in [0, parts) of each triangle: even runs along a Morton curve of the triangles'
 /// centroids (par::morton_partition). The same on every rank that holds the mesh. Serial.
 std::vector<int> morton_triangle_parts(const TriangleMesh& mesh, int parts);

@@ -3,13 +3,13 @@
 #include "core/error.hpp"
 #include "geom/distributed_triangles.hpp"
 #include "geom/mesh_topology.hpp"
+#include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
 #include "geom/restricted_voronoi.hpp"
 #include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
 #include "par/gather_to_root.hpp"
 #include "par/id_runs.hpp"
-#include "par/morton_partition.hpp"
 #include "par/record_exchange.hpp"
 
 #include <Eigen/Geometry>
@@ -587,39 +587,12 @@ struct SeedView {
   std::vector<std::int32_t> global;
 };
 
-/// Where each rank's run of the seeds starts among all of them (an O(ranks) table).
-std::vector<std::int64_t> run_offsets(const par::Comm& comm, std::size_t count) {
-  std::vector<std::int64_t> offsets(std::size_t(comm.size) + 1, 0);
-  const auto mine = std::int64_t(count);
-  MPI_Allgather(&mine, 1, MPI_INT64_T, offsets.data() + 1, 1, MPI_INT64_T, comm.raw);
-  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-  return offsets;
-}
-
-/// The Morton key of each triangle's centroid inside the centroids' bounding box.
-std::vector<std::uint64_t> centroid_keys(const TriangleMesh& surface) {
-  std::vector<std::array<double, 3>> centroids;
-  for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
-    const auto corners = corners_of(surface, t);
-    centroids.push_back({(corners[0] + corners[3] + corners[6]) / 3.0,
-                         (corners[1] + corners[4] + corners[7]) / 3.0,
-                         (corners[2] + corners[5] + corners[8]) / 3.0});
-  }
-  return par::morton_keys(centroids);
-}
-
-/// `surface` with its triangles in the order of their centroids' Morton keys (ties: index).
+/// `surface` with its triangles along a Morton curve of their centroids.
 TriangleMesh along_morton_curve(const TriangleMesh& surface) {
-  const auto keys = centroid_keys(surface);
-  std::vector<std::size_t> order(surface.triangles.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
-  });
   TriangleMesh curve;
   curve.positions = surface.positions;
-  curve.triangles.reserve(order.size());
-  for (const std::size_t t : order)
+  curve.triangles.reserve(surface.triangles.size());
+  for (const std::size_t t : morton_triangle_order(surface))
     curve.triangles.push_back(surface.triangles[t]);
   return curve;
 }
@@ -740,7 +713,8 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   TEXSIM_VERIFY(run_seeds.size() == run_ids.size(),
                 "restricted_delaunay: " << run_seeds.size() << " seeds and " << run_ids.size()
                                         << " ids");
-  const std::vector<std::int64_t> seed_offsets = run_offsets(comm, run_seeds.size());
+  const std::vector<std::int64_t> seed_offsets =
+      par::run_offsets(comm, std::int64_t(run_seeds.size()));
   // The triangles along a Morton curve, so that each rank's run is a compact patch whose halo of
   // seeds is small; the result does not depend on the triangles' order.
   TriangleMesh curve;

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
+#include "par/allgather_runs.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -30,14 +31,6 @@ struct BorderRecord {
   std::int64_t from;
   double length;
 };
-
-std::vector<std::int64_t> offsets_of_ranks(const par::Comm& comm, std::int64_t owned) {
-  std::vector<std::int64_t> counts(comm.size);
-  MPI_Allgather(&owned, 1, MPI_INT64_T, counts.data(), 1, MPI_INT64_T, comm.raw);
-  std::vector<std::int64_t> offsets(comm.size + 1, 0);
-  std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
-  return offsets;
-}
 
 std::int32_t owned_index(std::span<const std::int64_t> ids, std::int64_t id) {
   const auto it = std::lower_bound(ids.begin(), ids.end(), id);
@@ -74,7 +67,7 @@ void SurfaceCells::number_along_morton_curve(const par::Comm& comm, const Box3& 
   // Cell ids follow the points sorted by (Morton key in the mesh's bounding box, point id); the
   // sort leaves rank r the even run of cells floor(cell p / n) = r, in id order.
   points_ = sort_along_morton_curve(comm, bounds, std::move(relaxed)).points;
-  rank_offsets_ = offsets_of_ranks(comm, owned_count());
+  rank_offsets_ = par::run_offsets(comm, owned_count());
   owned_begin_ = rank_offsets_[comm.rank];
   ids_.resize(points_.size());
   std::iota(ids_.begin(), ids_.end(), owned_begin_);

@@ -3,9 +3,17 @@
 #include "core/error.hpp"
 
 #include <climits>
+#include <numeric>
 #include <vector>
 
 namespace texsim::par {
+
+std::vector<std::int64_t> run_offsets(const Comm& comm, std::int64_t count) {
+  std::vector<std::int64_t> offsets(std::size_t(comm.size) + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT64_T, offsets.data() + 1, 1, MPI_INT64_T, comm.raw);
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  return offsets;
+}
 
 void allgather_runs(const Comm& comm, std::span<const std::int64_t> rank_offsets, void* values,
                     int width, MPI_Datatype type) {

@@ -7,8 +7,13 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace texsim::par {
+
+/// The rank offsets of runs of `count` items per rank, in rank order (comm.size + 1 entries, an
+/// O(ranks) table). Collective.
+std::vector<std::int64_t> run_offsets(const Comm& comm, std::int64_t count);
 
 /// `values` holds rank_offsets.back() elements of `width` items of `type` each, and this rank's
 /// run [rank_offsets[r], rank_offsets[r + 1]) is filled in; on return every run is, on every rank.
