@@ -44,11 +44,11 @@ struct DataField {
 struct SurfacePiece {
   std::span<const double> xyz;             ///< 3 coordinates per point
   std::span<const std::int64_t> triangles; ///< 3 piece-local point indices per triangle
-  std::vector<DataField> point_fields;     ///< values.size() == components * number of points
-  std::vector<DataField> cell_fields;      ///< values.size() == components * number of triangles
+  std::vector<DataField> point_fields{};   ///< values.size() == components * number of points
+  std::vector<DataField> cell_fields{};    ///< values.size() == components * number of triangles
   /// Name of a 2-component point field to mark as the texture coordinates (VTK's TCoords), so
   /// ParaView maps a texture image with it; empty: none.
-  std::string texture_coordinates;
+  std::string texture_coordinates{};
 
   std::size_t point_count() const { return xyz.size() / 3; }
   std::size_t triangle_count() const { return triangles.size() / 3; }

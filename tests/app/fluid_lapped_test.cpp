@@ -55,7 +55,7 @@ nlohmann::json summary(const fs::path& dir) {
 TEST(FluidLapped, OneTwoAndThreeRanksWriteTheSameAtlasIdsAndCheckpoints) {
   const auto dir = scratch("ranks");
   for (int ranks : {1, 2, 3}) {
-    const auto out = dir / ("n" + std::to_string(ranks));
+    const auto out = dir / std::string("n").append(std::to_string(ranks));
     const auto run = texsim::test::run_command(vortex_run(ranks, out), kSource);
     ASSERT_EQ(run.exit_code, 0) << run.output;
   }

@@ -30,7 +30,9 @@ template <typename T> std::vector<T> take(const std::vector<char>& bytes, std::s
   std::memcpy(&n, bytes.data() + at, sizeof n);
   at += sizeof n;
   std::vector<T> values(n);
-  std::memcpy(values.data(), bytes.data() + at, n * sizeof(T));
+  // Eigen's fixed-size vectors (and arrays of them) are plain doubles; their user-declared
+  // assignment is what makes GCC ask for copy-assignment instead.
+  std::memcpy(static_cast<void*>(values.data()), bytes.data() + at, n * sizeof(T));
   at += n * sizeof(T);
   return values;
 }

@@ -23,7 +23,7 @@ struct PyramidSynthesisInput {
   /// Level k's parent faces on level k + 1 of this rank's run of level k (empty for the coarsest).
   const std::vector<std::vector<ParentFace>>& parents;
   const std::vector<img::RgbImage>& exemplar; ///< G_a, as many levels as the pyramid
-  std::vector<NeighbourhoodShape> shapes;     ///< per level, 0 = finest
+  std::vector<NeighbourhoodShape> shapes{};   ///< per level, 0 = finest
   SearchMethod method = SearchMethod::exhaustive;
   ExemplarBorder border = ExemplarBorder::toroidal;
   std::uint64_t seed = 1;
