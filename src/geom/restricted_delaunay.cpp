@@ -100,6 +100,26 @@ std::uint8_t linked_sides(const TriangleMesh& surface, const VoronoiPiece& piece
   return sides;
 }
 
+/// Sorts `pairs`, whose runs ending at `run_ends` are each sorted already, and drops repeated
+/// pairs: the runs are merged two by two, log2(runs) passes instead of a full sort.
+void merge_sorted_runs(std::vector<std::pair<std::int32_t, std::int32_t>>& pairs,
+                       std::vector<std::size_t> run_ends) {
+  std::vector<std::size_t> bounds = {0};
+  bounds.insert(bounds.end(), run_ends.begin(), run_ends.end());
+  while (bounds.size() > 2) {
+    std::vector<std::size_t> merged = {0};
+    for (std::size_t k = 0; k + 2 < bounds.size(); k += 2) {
+      const auto at = [&](std::size_t b) { return pairs.begin() + std::ptrdiff_t(bounds[b]); };
+      std::inplace_merge(at(k), at(k + 1), at(k + 2));
+      merged.push_back(bounds[k + 2]);
+    }
+    if (bounds.size() % 2 == 0) // an odd number of runs: the last one waits for the next pass
+      merged.push_back(bounds.back());
+    bounds = std::move(merged);
+  }
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
 /// Appends the summaries, borders, meetings and neighbour pairs of `pieces` (of triangles after
 /// every triangle already in `input`).
 void add_pieces(const TriangleMesh& surface, const std::vector<VoronoiPiece>& pieces,
@@ -124,9 +144,10 @@ void add_pieces(const TriangleMesh& surface, const std::vector<VoronoiPiece>& pi
       }
     }
   }
-  pairs.insert(pairs.end(), input.neighbour_pairs.begin(), input.neighbour_pairs.end());
   std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const std::size_t fresh = pairs.size();
+  pairs.insert(pairs.end(), input.neighbour_pairs.begin(), input.neighbour_pairs.end());
+  merge_sorted_runs(pairs, {fresh, pairs.size()});
   input.neighbour_pairs = std::move(pairs);
 }
 
@@ -266,53 +287,50 @@ public:
       : surface_(surface), seeds_(seeds), ids_(seed_ids), input_(input),
         neighbours_(voronoi_neighbours(input, seeds.size())), owners_(surface, seed_ids, input) {}
 
-  /// The triangles of one meeting, counter-clockwise: (seed, a, b) when exactly three cells meet
-  /// there, else the fan of every meeting seed from the smallest id; then each cell replaced by
-  /// the one its piece there counts for (PieceOwners), triangles left with a repeated cell dropped.
-  std::vector<Triangle> triangles(const Meeting& meeting) const {
-    const std::int32_t t = input_.pieces[std::size_t(meeting.piece)].triangle;
-    std::vector<Triangle> result;
-    for (Triangle triangle : meeting_triangles(meeting)) {
+  /// Appends the triangles of one meeting to `out`, counter-clockwise: (seed, a, b) when exactly
+  /// three cells meet there, else the fan of every meeting seed from the smallest id; then each
+  /// cell replaced by the one its piece there counts for (PieceOwners), triangles left with a
+  /// repeated cell dropped. Allocates nothing when three cells meet (nearly every meeting).
+  void add_triangles(const Meeting& meeting, std::vector<Triangle>& out) const {
+    const PieceSummary& piece = input_.pieces[std::size_t(meeting.piece)];
+    const auto add = [&](Triangle triangle) {
       for (std::int32_t& cell : triangle)
-        cell = owners_.owner(cell, t);
+        cell = owners_.owner(cell, piece.triangle);
       if (triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[2] != triangle[0])
-        result.push_back(triangle);
+        out.push_back(triangle);
+    };
+    // Every seed as far from the point as the piece's within the tolerance: nearly always none
+    // but a and b (found without allocating), else the fan of them all.
+    const std::int32_t i = piece.seed;
+    std::vector<std::int32_t> meeting_seeds;
+    add_other_meeting_seeds(meeting.point, i, meeting.a, meeting.b, meeting_seeds);
+    if (meeting_seeds.empty()) {
+      add({i, meeting.a, meeting.b});
+      return;
     }
-    return result;
+    meeting_seeds.insert(meeting_seeds.end(), {i, meeting.a, meeting.b});
+    std::sort(meeting_seeds.begin(), meeting_seeds.end());
+    meeting_seeds.erase(std::unique(meeting_seeds.begin(), meeting_seeds.end()),
+                        meeting_seeds.end());
+    order_around(meeting.point, piece.triangle, meeting_seeds);
+    for (std::size_t s = 1; s + 1 < meeting_seeds.size(); ++s)
+      add({meeting_seeds[0], meeting_seeds[s], meeting_seeds[s + 1]});
   }
 
 private:
-  std::vector<Triangle> meeting_triangles(const Meeting& meeting) const {
-    const PieceSummary& piece = input_.pieces[std::size_t(meeting.piece)];
-    const std::int32_t i = piece.seed;
-    const std::int32_t a = meeting.a;
-    const std::int32_t b = meeting.b;
-    const Vec3& point = meeting.point;
-    std::vector<std::int32_t> meeting_seeds = seeds_meeting_at(point, i, a, b);
-    if (meeting_seeds.size() == 3)
-      return {Triangle{i, a, b}};
-    order_around(point, piece.triangle, meeting_seeds);
-    std::vector<Triangle> fan;
-    for (std::size_t s = 1; s + 1 < meeting_seeds.size(); ++s)
-      fan.push_back({meeting_seeds[0], meeting_seeds[s], meeting_seeds[s + 1]});
-    return fan;
-  }
-
-  /// i, a, b and every neighbour of theirs as far from `point` as i within the tolerance; a seed
-  /// that borders none of the three cells cannot meet them there.
-  std::vector<std::int32_t> seeds_meeting_at(const Vec3& point, std::int32_t i, std::int32_t a,
-                                             std::int32_t b) const {
+  /// Appends to `found` every neighbour of i, a and b other than these three as far from `point`
+  /// as i within the tolerance (some perhaps twice); a seed that borders none of the three cells
+  /// cannot meet them there.
+  void add_other_meeting_seeds(const Vec3& point, std::int32_t i, std::int32_t a, std::int32_t b,
+                               std::vector<std::int32_t>& found) const {
     const double reference = squared_distance(point, seeds_[std::size_t(i)]);
     const double r = std::sqrt(reference);
     const double tolerance = kMeetingTolerance * (point.cwiseAbs().maxCoeff() + r) * r;
-    std::vector<std::int32_t> result = {i, a, b};
     for (const std::int32_t cell : {i, a, b})
       for (const std::int32_t c : neighbours_.row(cell))
-        if (std::abs(squared_distance(point, seeds_[std::size_t(c)]) - reference) <= tolerance)
-          result.push_back(c);
-    std::sort(result.begin(), result.end());
-    result.erase(std::unique(result.begin(), result.end()), result.end());
-    return result;
+        if (c != i && c != a && c != b &&
+            std::abs(squared_distance(point, seeds_[std::size_t(c)]) - reference) <= tolerance)
+          found.push_back(c);
   }
 
   /// Sorts `cells` counter-clockwise around `point` about the normal of surface triangle t, the
@@ -351,7 +369,6 @@ private:
 /// One sighting of a triangle: its vertices in increasing id order and whether it was seen in that
 /// cyclic order (+1) or the other (-1).
 struct Sighting {
-  std::array<std::int64_t, 3> ids;
   Triangle vertices;
   int vote;
 };
@@ -364,10 +381,53 @@ Sighting sighting_of(const Triangle& t, std::span<const std::int64_t> seed_ids) 
   const bool same_cycle = (t[0] == sorted[0] && t[1] == sorted[1]) ||
                           (t[1] == sorted[0] && t[2] == sorted[1]) ||
                           (t[2] == sorted[0] && t[0] == sorted[1]);
-  return {{seed_ids[std::size_t(sorted[0])], seed_ids[std::size_t(sorted[1])],
-           seed_ids[std::size_t(sorted[2])]},
-          sorted,
-          same_cycle ? 1 : -1};
+  return {sorted, same_cycle ? 1 : -1};
+}
+
+/// One triangle for each set of sightings of the same vertices, oriented as most of them say
+/// (ties: the vertices in increasing id order), sorted by the vertices' ids. The sightings are
+/// put in buckets by their first vertex (the smallest id), and the buckets visited in id order,
+/// each sorted by its other two ids: a full sort of the sightings by their ids took longer than
+/// finding them.
+std::vector<Triangle> voted_triangles(std::span<const Sighting> sightings,
+                                      std::span<const std::int64_t> seed_ids) {
+  TEXSIM_VERIFY(sightings.size() < std::size_t(std::numeric_limits<std::uint32_t>::max()),
+                "restricted_delaunay: more than 2^32 sightings of triangles");
+  std::vector<std::uint32_t> bucket_begin(seed_ids.size() + 1, 0);
+  for (const Sighting& sighting : sightings)
+    ++bucket_begin[std::size_t(sighting.vertices[0]) + 1];
+  std::partial_sum(bucket_begin.begin(), bucket_begin.end(), bucket_begin.begin());
+  std::vector<std::uint32_t> bucketed(sightings.size());
+  {
+    std::vector<std::uint32_t> next(bucket_begin.begin(), bucket_begin.end() - 1);
+    for (std::size_t s = 0; s < sightings.size(); ++s)
+      bucketed[next[std::size_t(sightings[s].vertices[0])]++] = std::uint32_t(s);
+  }
+  std::vector<std::int32_t> in_id_order(seed_ids.size());
+  std::iota(in_id_order.begin(), in_id_order.end(), 0);
+  std::sort(in_id_order.begin(), in_id_order.end(),
+            [&](auto x, auto y) { return seed_ids[std::size_t(x)] < seed_ids[std::size_t(y)]; });
+  // The other two ids of a sighting (equal ids: equal vertices, the ids being all different).
+  const auto rest = [&](std::uint32_t s) {
+    const Triangle& v = sightings[s].vertices;
+    return std::pair(seed_ids[std::size_t(v[1])], seed_ids[std::size_t(v[2])]);
+  };
+  std::vector<Triangle> triangles;
+  for (const std::int32_t first : in_id_order) {
+    const auto begin = bucketed.begin() + bucket_begin[std::size_t(first)];
+    const auto end = bucketed.begin() + bucket_begin[std::size_t(first) + 1];
+    std::sort(begin, end, [&](auto x, auto y) { return rest(x) < rest(y); });
+    for (auto group = begin; group != end;) {
+      int votes = 0;
+      auto after = group;
+      for (; after != end && rest(*after) == rest(*group); ++after)
+        votes += sightings[*after].vote;
+      const Triangle& v = sightings[*group].vertices;
+      triangles.push_back(votes >= 0 ? v : Triangle{v[0], v[2], v[1]});
+      group = after;
+    }
+  }
+  return triangles;
 }
 
 /// `piece` with its seed indices (its own, its borders', its edges') replaced by `global[index]`,
@@ -418,17 +478,22 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   const MeetingTriangulator triangulator(surface, seeds, seed_ids, input);
   const auto& meetings = input.meetings;
   // Each thread keeps its meetings' sightings in one vector (not a vector per meeting, which cost
-  // more than the sightings themselves). The order in which they are joined does not matter: the
-  // sort groups equal triangles, whose vertices are the same and whose votes are summed.
+  // more than the sightings themselves). The order in which they are joined does not matter:
+  // voted_triangles groups equal triangles, whose vertices are the same and whose votes are
+  // summed.
   std::vector<std::vector<Sighting>> per_thread(static_cast<std::size_t>(omp_get_max_threads()));
   const auto count = static_cast<std::int64_t>(meetings.size());
 #pragma omp parallel
   {
     std::vector<Sighting>& mine = per_thread[std::size_t(omp_get_thread_num())];
+    std::vector<Triangle> found;
 #pragma omp for schedule(static)
-    for (std::int64_t m = 0; m < count; ++m)
-      for (const Triangle& t : triangulator.triangles(meetings[std::size_t(m)]))
+    for (std::int64_t m = 0; m < count; ++m) {
+      found.clear();
+      triangulator.add_triangles(meetings[std::size_t(m)], found);
+      for (const Triangle& t : found)
         mine.push_back(sighting_of(t, seed_ids));
+    }
   }
   std::size_t total = 0;
   for (const auto& part : per_thread)
@@ -439,20 +504,9 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
     sightings.insert(sightings.end(), part.begin(), part.end());
     part = std::vector<Sighting>();
   }
-  std::sort(sightings.begin(), sightings.end(),
-            [](const Sighting& x, const Sighting& y) { return x.ids < y.ids; });
-
   TriangleMesh mesh;
   mesh.positions.assign(seeds.begin(), seeds.end());
-  for (std::size_t s = 0; s < sightings.size();) {
-    int votes = 0;
-    std::size_t end = s;
-    for (; end < sightings.size() && sightings[end].ids == sightings[s].ids; ++end)
-      votes += sightings[end].vote;
-    const Triangle& v = sightings[s].vertices;
-    mesh.triangles.push_back(votes >= 0 ? v : Triangle{v[0], v[2], v[1]});
-    s = end;
-  }
+  mesh.triangles = voted_triangles(sightings, seed_ids);
   return mesh;
 }
 
@@ -523,8 +577,8 @@ void reserve_for_parts(const par::Comm& comm, std::span<const std::byte> mine, D
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
 /// its triangle, border and piece indices are moved past the ones already there. Appending the
-/// ranks' parts in order gives the serial input once the neighbour pairs are sorted and made
-/// unique (one sort at the end: merging at every rank would cost ranks x pairs).
+/// ranks' parts in order gives the serial input once the neighbour pairs, sorted within each
+/// part, are merged (once at the end: merging at every rank would cost ranks x pairs).
 void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
   std::size_t at = 0;
   const auto get = [&bytes, &at](auto& value) {
@@ -748,17 +802,17 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
     *report = cut_against;
   const std::int64_t triangles = curve.num_triangles();
   DualInput input;
+  std::vector<std::size_t> pair_run_ends; // each rank's pairs are sorted and unique
   {
     std::vector<std::byte> bytes = serialize(mine);
     mine = DualInput();
     reserve_for_parts(comm, bytes, input);
     par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
       append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
+      pair_run_ends.push_back(input.neighbour_pairs.size());
     });
   } // rank 0's own serialized part is gone before the join
-  auto& pairs = input.neighbour_pairs;
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  merge_sorted_runs(input.neighbour_pairs, std::move(pair_run_ends));
   const SeedView all_on_root = seeds_on_root(comm, run_seeds, run_ids);
   TriangleMesh mesh;
   par::run_collectively(comm, [&] {
