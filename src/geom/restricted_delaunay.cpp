@@ -495,14 +495,11 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
         mine.push_back(sighting_of(t, seed_ids));
     }
   }
-  std::size_t total = 0;
-  for (const auto& part : per_thread)
-    total += part.size();
-  std::vector<Sighting> sightings;
-  sightings.reserve(total);
-  for (auto& part : per_thread) {
-    sightings.insert(sightings.end(), part.begin(), part.end());
-    part = std::vector<Sighting>();
+  // The first thread's part takes the others (with one thread, nothing is copied).
+  std::vector<Sighting> sightings = std::move(per_thread.front());
+  for (std::size_t t = 1; t < per_thread.size(); ++t) {
+    sightings.insert(sightings.end(), per_thread[t].begin(), per_thread[t].end());
+    per_thread[t] = std::vector<Sighting>();
   }
   TriangleMesh mesh;
   mesh.positions.assign(seeds.begin(), seeds.end());
