@@ -5,6 +5,7 @@
 #include "geom/mesh_topology.hpp"
 #include "geom/morton_order.hpp"
 #include "geom/point_halo.hpp"
+#include "geom/point_kd_tree.hpp"
 #include "geom/restricted_voronoi.hpp"
 #include "par/allgather_runs.hpp"
 #include "par/collective.hpp"
@@ -52,13 +53,15 @@ struct PieceSummary {
   std::uint8_t linked_sides = 0;
 };
 
-/// A corner of a piece between two bisector edges: the cells of the piece's seed and of `a` and
-/// `b` meet at `point`.
+/// A corner of a piece between two bisector edges, where the cells of the piece's seed and of
+/// `a` and `b` meet.
 struct Meeting {
   std::int32_t piece;
   std::int32_t a;
   std::int32_t b;
-  Vec3 point;
+  /// Into DualInput::meeting_points, or -1: no other seed is as far from the corner as these three
+  /// (CrowdedMeetingTest), so the corner itself is not needed.
+  std::int32_t point;
 };
 
 /// The pieces of every triangle, reduced to what the dual needs, in (triangle, seed id) order.
@@ -66,6 +69,7 @@ struct DualInput {
   std::vector<PieceSummary> pieces;
   std::vector<std::pair<std::int32_t, double>> borders; ///< VoronoiPiece::borders, concatenated
   std::vector<Meeting> meetings;
+  std::vector<Vec3> meeting_points; ///< of the meetings CrowdedMeetingTest flagged
   /// (seed, seed) pairs whose cells share a border somewhere, both ways, sorted and unique.
   std::vector<std::pair<std::int32_t, std::int32_t>> neighbour_pairs;
   /// The largest distance from a piece's seed to its polygon's vertices (not sent).
@@ -120,27 +124,105 @@ void merge_sorted_runs(std::vector<std::pair<std::int32_t, std::int32_t>>& pairs
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
+/// How far the squared distance of another seed to a meeting point may differ from that of the
+/// piece's seed (`reference`) for the other seed to meet there too.
+double meeting_tolerance(const Vec3& point, double reference) {
+  const double r = std::sqrt(reference);
+  return kMeetingTolerance * (point.cwiseAbs().maxCoeff() + r) * r;
+}
+
+/// Whether any seed but i, a and b, among those a rank cut against, is as far from a meeting
+/// point p as i within the tolerance. When none is, MeetingTriangulator, which asks only the
+/// neighbours of i, a and b, finds none either: a neighbour c of a cell x among them shares a
+/// border point y with it, so |c - p| <= |c - y| + |y - x| + |x - p| <= 3 R (R the largest piece
+/// radius: y and p lie on pieces of x, a and b being as far from p as i), and the seeds within
+/// the halo (>= 3 R, checked) of a rank's triangles are among those it cut against. So only the
+/// flagged meetings (a handful) keep their point.
+class CrowdedMeetingTest {
+public:
+  explicit CrowdedMeetingTest(std::span<const Vec3> seeds)
+      : seeds_(seeds), cloud_{seeds},
+        tree_(3, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(12)) {}
+
+  bool operator()(const Vec3& point, std::int32_t i, std::int32_t a, std::int32_t b) const {
+    FirstOtherSeed search(*this, point, i, a, b);
+    tree_.radiusSearchCustomCallback(point.data(), search,
+                                     nanoflann::SearchParams(32, 0.0f, false));
+    return search.found;
+  }
+
+private:
+  /// nanoflann's result set: stops at the first seed but i, a and b within the tolerance.
+  struct FirstOtherSeed {
+    FirstOtherSeed(const CrowdedMeetingTest& test, const Vec3& point, std::int32_t i,
+                   std::int32_t a, std::int32_t b)
+        : test(test), point(point), i(i), a(a), b(b),
+          reference(squared_distance(point, test.seeds_[std::size_t(i)])),
+          tolerance(meeting_tolerance(point, reference)),
+          // nanoflann's squared distances may differ from ours by a few ulps: a wider ball.
+          radius((reference + tolerance) * (1.0 + 1e-9) + 1e-300) {}
+    void init() {}
+    void clear() {}
+    std::size_t size() const { return found ? 1 : 0; }
+    bool full() const { return true; }
+    double worstDist() const { return radius; }
+    bool addPoint(double, std::uint32_t index) {
+      const auto c = std::int32_t(index);
+      if (c != i && c != a && c != b &&
+          std::abs(squared_distance(point, test.seeds_[index]) - reference) <= tolerance)
+        found = true;
+      return !found;
+    }
+
+    const CrowdedMeetingTest& test;
+    const Vec3& point;
+    std::int32_t i, a, b;
+    double reference, tolerance, radius;
+    bool found = false;
+  };
+
+  std::span<const Vec3> seeds_;
+  PointCloudView cloud_;
+  PointKdTree tree_;
+};
+
 /// Appends the summaries, borders, meetings and neighbour pairs of `pieces` (of triangles after
-/// every triangle already in `input`).
-void add_pieces(const TriangleMesh& surface, const std::vector<VoronoiPiece>& pieces,
+/// every triangle already in `input`), cut against `seeds`. With `global` (one entry per seed),
+/// the seeds are a part of a larger set and the input speaks that set's indices: seed index i
+/// becomes global[i], each piece's borders sorted again by them.
+void add_pieces(const TriangleMesh& surface, std::span<const VoronoiPiece> pieces,
+                const CrowdedMeetingTest& crowded, std::span<const std::int32_t> global,
                 DualInput& input) {
+  const auto global_of = [&](std::int32_t seed) {
+    return global.empty() ? seed : global[std::size_t(seed)];
+  };
   std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
   for (const VoronoiPiece& piece : pieces) {
     const auto index = std::int32_t(input.pieces.size());
-    input.pieces.push_back({piece.triangle, piece.seed, piece.area,
-                            std::uint32_t(input.borders.size()),
+    const std::int32_t seed = global_of(piece.seed);
+    input.pieces.push_back({piece.triangle, seed, piece.area, std::uint32_t(input.borders.size()),
                             std::uint32_t(piece.borders.size()), linked_sides(surface, piece)});
-    input.borders.insert(input.borders.end(), piece.borders.begin(), piece.borders.end());
+    const auto first_border = std::ptrdiff_t(input.borders.size());
+    for (const auto& [other, length] : piece.borders)
+      input.borders.emplace_back(global_of(other), length);
+    if (!global.empty())
+      std::sort(input.borders.begin() + first_border, input.borders.end());
     const auto& labels = piece.edge_labels;
     const std::size_t n = labels.size();
     for (std::size_t k = 0; k < n; ++k) {
       const std::int32_t before = labels[(k + n - 1) % n], after = labels[k];
       // Equal labels: a border split in two by a round-off re-entry, not a meeting.
-      if (before >= 0 && after >= 0 && before != after)
-        input.meetings.push_back({index, before, after, piece.polygon[k]});
+      if (before >= 0 && after >= 0 && before != after) {
+        std::int32_t point = -1;
+        if (crowded(piece.polygon[k], piece.seed, before, after)) {
+          point = std::int32_t(input.meeting_points.size());
+          input.meeting_points.push_back(piece.polygon[k]);
+        }
+        input.meetings.push_back({index, global_of(before), global_of(after), point});
+      }
       if (after >= 0) {
-        pairs.emplace_back(piece.seed, after);
-        pairs.emplace_back(after, piece.seed);
+        pairs.emplace_back(seed, global_of(after));
+        pairs.emplace_back(global_of(after), seed);
       }
     }
   }
@@ -299,11 +381,14 @@ public:
       if (triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[2] != triangle[0])
         out.push_back(triangle);
     };
-    // Every seed as far from the point as the piece's within the tolerance: nearly always none
-    // but a and b (found without allocating), else the fan of them all.
+    // Every seed as far from the point as the piece's within the tolerance: none but a and b
+    // unless the cut flagged the meeting (found without allocating), else the fan of them all.
     const std::int32_t i = piece.seed;
     std::vector<std::int32_t> meeting_seeds;
-    add_other_meeting_seeds(meeting.point, i, meeting.a, meeting.b, meeting_seeds);
+    const Vec3* point =
+        meeting.point < 0 ? nullptr : &input_.meeting_points[std::size_t(meeting.point)];
+    if (point)
+      add_other_meeting_seeds(*point, i, meeting.a, meeting.b, meeting_seeds);
     if (meeting_seeds.empty()) {
       add({i, meeting.a, meeting.b});
       return;
@@ -312,7 +397,7 @@ public:
     std::sort(meeting_seeds.begin(), meeting_seeds.end());
     meeting_seeds.erase(std::unique(meeting_seeds.begin(), meeting_seeds.end()),
                         meeting_seeds.end());
-    order_around(meeting.point, piece.triangle, meeting_seeds);
+    order_around(*point, piece.triangle, meeting_seeds);
     for (std::size_t s = 1; s + 1 < meeting_seeds.size(); ++s)
       add({meeting_seeds[0], meeting_seeds[s], meeting_seeds[s + 1]});
   }
@@ -324,8 +409,7 @@ private:
   void add_other_meeting_seeds(const Vec3& point, std::int32_t i, std::int32_t a, std::int32_t b,
                                std::vector<std::int32_t>& found) const {
     const double reference = squared_distance(point, seeds_[std::size_t(i)]);
-    const double r = std::sqrt(reference);
-    const double tolerance = kMeetingTolerance * (point.cwiseAbs().maxCoeff() + r) * r;
+    const double tolerance = meeting_tolerance(point, reference);
     for (const std::int32_t cell : {i, a, b})
       for (const std::int32_t c : neighbours_.row(cell))
         if (c != i && c != a && c != b &&
@@ -430,18 +514,6 @@ std::vector<Triangle> voted_triangles(std::span<const Sighting> sightings,
   return triangles;
 }
 
-/// `piece` with its seed indices (its own, its borders', its edges') replaced by `global[index]`,
-/// the borders sorted again by them.
-void renumber_seeds(VoronoiPiece& piece, std::span<const std::int32_t> global) {
-  piece.seed = global[std::size_t(piece.seed)];
-  for (auto& border : piece.borders)
-    border.first = global[std::size_t(border.first)];
-  std::sort(piece.borders.begin(), piece.borders.end());
-  for (std::int32_t& label : piece.edge_labels)
-    if (label >= 0)
-      label = global[std::size_t(label)];
-}
-
 /// The dual input of every triangle of `surface`, computed `chunk_triangles` at a time. With
 /// `global` (one entry per seed), the seeds are a part of a larger set and the dual input speaks
 /// that set's indices: seed index i becomes global[i].
@@ -451,19 +523,17 @@ DualInput dual_input(const TriangleMesh& surface, std::span<const Vec3> seeds,
   TEXSIM_VERIFY(chunk_triangles > 0,
                 "restricted_delaunay: chunk_triangles " << chunk_triangles << " is not positive");
   DualInput input;
+  const CrowdedMeetingTest crowded(seeds);
   std::vector<std::int32_t> chunk;
   for (std::int32_t first = 0; first < surface.num_triangles(); first += chunk_triangles) {
     chunk.resize(std::size_t(std::min(chunk_triangles, surface.num_triangles() - first)));
     std::iota(chunk.begin(), chunk.end(), first);
-    auto pieces = restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true);
-    for (VoronoiPiece& piece : pieces) {
+    const auto pieces = restricted_voronoi_pieces(surface, chunk, seeds, seed_ids, true);
+    for (const VoronoiPiece& piece : pieces)
       for (const Vec3& corner : piece.polygon)
         input.largest_piece_radius =
             std::max(input.largest_piece_radius, (corner - seeds[std::size_t(piece.seed)]).norm());
-      if (!global.empty())
-        renumber_seeds(piece, global);
-    }
-    add_pieces(surface, pieces, input);
+    add_pieces(surface, pieces, crowded, global, input);
   }
   return input;
 }
@@ -507,19 +577,21 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return mesh;
 }
 
-/// The counts at the head of a serialized dual input: pieces, borders, meetings, neighbour pairs.
-using DualInputCounts = std::array<std::uint64_t, 4>;
+/// The counts at the head of a serialized dual input: pieces, borders, meetings, meeting points,
+/// neighbour pairs.
+using DualInputCounts = std::array<std::uint64_t, 5>;
 
 /// A rank's dual input on the wire: counts, then the pieces (borders counted, not indexed), the
-/// borders, the meetings and the neighbour pairs, as plain numbers.
+/// borders, the meetings, their points and the neighbour pairs, as plain numbers.
 std::vector<std::byte> serialize(const DualInput& input) {
   std::vector<std::byte> bytes;
   constexpr std::size_t kPieceBytes =
       2 * sizeof(std::int32_t) + sizeof(double) + sizeof(std::uint32_t) + sizeof(std::uint8_t);
   constexpr std::size_t kBorderBytes = sizeof(std::int32_t) + sizeof(double);
-  constexpr std::size_t kMeetingBytes = 3 * sizeof(std::int32_t) + 3 * sizeof(double);
+  constexpr std::size_t kMeetingBytes = 4 * sizeof(std::int32_t);
   bytes.reserve(sizeof(DualInputCounts) + input.pieces.size() * kPieceBytes +
                 input.borders.size() * kBorderBytes + input.meetings.size() * kMeetingBytes +
+                input.meeting_points.size() * sizeof(Vec3) +
                 input.neighbour_pairs.size() * 2 * sizeof(std::int32_t));
   const auto put = [&bytes](const auto& value) {
     const auto* raw = reinterpret_cast<const std::byte*>(&value);
@@ -528,6 +600,7 @@ std::vector<std::byte> serialize(const DualInput& input) {
   put(std::uint64_t(input.pieces.size()));
   put(std::uint64_t(input.borders.size()));
   put(std::uint64_t(input.meetings.size()));
+  put(std::uint64_t(input.meeting_points.size()));
   put(std::uint64_t(input.neighbour_pairs.size()));
   for (const PieceSummary& piece : input.pieces) {
     put(piece.triangle);
@@ -544,9 +617,12 @@ std::vector<std::byte> serialize(const DualInput& input) {
     put(meeting.piece);
     put(meeting.a);
     put(meeting.b);
-    put(meeting.point.x());
-    put(meeting.point.y());
-    put(meeting.point.z());
+    put(meeting.point);
+  }
+  for (const Vec3& point : input.meeting_points) {
+    put(point.x());
+    put(point.y());
+    put(point.z());
   }
   for (const auto& [from, to] : input.neighbour_pairs) {
     put(from);
@@ -569,23 +645,25 @@ void reserve_for_parts(const par::Comm& comm, std::span<const std::byte> mine, D
   input.pieces.reserve(total[0]);
   input.borders.reserve(total[1]);
   input.meetings.reserve(total[2]);
-  input.neighbour_pairs.reserve(total[3]);
+  input.meeting_points.reserve(total[3]);
+  input.neighbour_pairs.reserve(total[4]);
 }
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
-/// its triangle, border and piece indices are moved past the ones already there. Appending the
-/// ranks' parts in order gives the serial input once the neighbour pairs, sorted within each
-/// part, are merged (once at the end: merging at every rank would cost ranks x pairs).
+/// its triangle, border, piece and meeting-point indices are moved past the ones already there.
+/// Appending the ranks' parts in order gives the serial input once the neighbour pairs, sorted
+/// within each part, are merged (once at the end: merging at every rank would cost ranks x pairs).
 void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
   std::size_t at = 0;
   const auto get = [&bytes, &at](auto& value) {
     std::memcpy(&value, bytes.data() + at, sizeof(value));
     at += sizeof(value);
   };
-  std::uint64_t pieces = 0, borders = 0, meetings = 0, pairs = 0;
+  std::uint64_t pieces = 0, borders = 0, meetings = 0, points = 0, pairs = 0;
   get(pieces);
   get(borders);
   get(meetings);
+  get(points);
   get(pairs);
   const auto first_piece = std::int32_t(input.pieces.size());
   auto first_border = std::uint64_t(input.borders.size());
@@ -609,18 +687,24 @@ void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualI
     get(border.second);
     input.borders.push_back(border);
   }
+  const auto first_point = std::int32_t(input.meeting_points.size());
   for (std::uint64_t m = 0; m < meetings; ++m) {
     Meeting meeting{};
-    double x = 0, y = 0, z = 0;
     get(meeting.piece);
     get(meeting.a);
     get(meeting.b);
+    get(meeting.point);
+    meeting.piece += first_piece;
+    if (meeting.point >= 0)
+      meeting.point += first_point;
+    input.meetings.push_back(meeting);
+  }
+  for (std::uint64_t p = 0; p < points; ++p) {
+    double x = 0, y = 0, z = 0;
     get(x);
     get(y);
     get(z);
-    meeting.piece += first_piece;
-    meeting.point = {x, y, z};
-    input.meetings.push_back(meeting);
+    input.meeting_points.emplace_back(x, y, z);
   }
   for (std::uint64_t k = 0; k < pairs; ++k) {
     std::pair<std::int32_t, std::int32_t> pair;

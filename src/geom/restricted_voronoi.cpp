@@ -1,9 +1,9 @@
 #include "geom/restricted_voronoi.hpp"
 
 #include "core/error.hpp"
+#include "geom/point_kd_tree.hpp"
 
 #include <Eigen/Geometry>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <array>
@@ -25,17 +25,6 @@ constexpr std::size_t kCachedNeighbours = 20;
 /// belong to the nearest ones only when it is closer than the k-th distance by this relative
 /// margin.
 constexpr double kTrustMargin = 1e-12;
-
-struct SeedCloud {
-  std::span<const Vec3> points;
-  std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::uint32_t i, std::size_t d) const { return points[i][d]; }
-  template <class Box> bool kdtree_get_bbox(Box&) const { return false; }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<double, SeedCloud, double, std::uint32_t>, SeedCloud, 3,
-    std::uint32_t>;
 
 struct Neighbour {
   double distance2;
@@ -96,8 +85,8 @@ public:
 private:
   std::span<const Vec3> seeds_;
   std::span<const std::int64_t> ids_;
-  SeedCloud cloud_;
-  KdTree tree_;
+  PointCloudView cloud_;
+  PointKdTree tree_;
 };
 
 struct PolygonVertex {

@@ -225,7 +225,8 @@ TEST(RestrictedDelaunay, PiecesCutOnEveryRankGiveTheSerialMesh) {
 
 // Seeds at the centres of an m x m lattice of unit squares on a flat square: every inner lattice
 // point is a Voronoi vertex of four cells. Each lattice square becomes two triangles, split
-// through its smallest-id corner, however the clipping's round-off splits the point.
+// through its smallest-id corner, however the clipping's round-off splits the point, on one rank
+// or cut on all.
 TEST(RestrictedDelaunay, SquareLatticeSplitsEachSquareThroughItsSmallestId) {
   constexpr int m = 7;
   // Four triangles fanned around a centre no lattice point's line passes through.
@@ -269,6 +270,16 @@ TEST(RestrictedDelaunay, SquareLatticeSplitsEachSquareThroughItsSmallestId) {
         EXPECT_TRUE(found.count(t)) << "square " << i << ", " << j;
       }
     }
+  // The same split when every rank cuts a part of the square: the meetings of four cells are the
+  // only ones whose points go to rank 0, from each rank that found some.
+  const par::Comm world = par::world();
+  const TriangleMesh distributed =
+      restricted_delaunay(world, world.is_root() ? square : TriangleMesh{},
+                          even_run(world, seeds.points), even_run(world, seeds.ids), 3.0, 1);
+  if (world.is_root()) {
+    EXPECT_EQ(distributed.positions, mesh.positions);
+    EXPECT_EQ(distributed.triangles, mesh.triangles);
+  }
 }
 
 TEST(RestrictedVoronoi, EdgeLabelsNameSeedsEquidistantFromTheirEdges) {
