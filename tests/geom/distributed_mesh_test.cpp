@@ -81,8 +81,9 @@ void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
   const std::int32_t held = mesh.mesh().num_vertices();
   EXPECT_LE(held - mesh.owned_count(), mesh.quality().halo_max);
   EXPECT_LE(mesh.local_count() - mesh.owned_count(), mesh.quality().ghosts_max);
-  if (comm.size > 1)
+  if (comm.size > 1) {
     EXPECT_LT(held, n);
+  }
   for (std::int32_t local = 0; local < held; ++local)
     ASSERT_EQ(mesh.local_index(mesh.global_index(local)), local);
 
@@ -123,10 +124,11 @@ void check_ownership(const TriangleMesh& coarse, PartitionMethod method,
     ring = next;
   }
   for (std::int32_t v = 0; v < held; ++v)
-    if (depth[v] >= 0)
+    if (depth[v] >= 0) {
       ASSERT_EQ(mesh.topology().vertex_triangles().row(v).size(),
                 whole.vertex_triangles().row(std::int32_t(mesh.input_id()[v])).size())
           << "vertex " << v << " at ring " << depth[v];
+    }
   for (std::int32_t v = 0; v < mesh.local_count(); ++v)
     ASSERT_TRUE(depth[v] == 0 || depth[v] == 1) << "a ghost is not a neighbour of an owned vertex";
 

@@ -62,8 +62,9 @@ void expect_shares_of(const TriangleMesh& mesh) {
     }
     ASSERT_TRUE(std::is_sorted(ids.begin(), ids.end()));
     // No rank holds the whole mesh (a sphere of 1280 triangles over 2 or 3 ranks).
-    if (comm.size > 1)
+    if (comm.size > 1) {
       EXPECT_LT(std::int64_t(ids.size()), mesh.num_triangles());
+    }
     auto all = par::allgather_records(comm, ids);
     std::sort(all.begin(), all.end());
     ASSERT_EQ(std::int64_t(all.size()), mesh.num_triangles());
@@ -163,8 +164,9 @@ void expect_window_of(const TriangleMesh& mesh, double reach) {
   }
   EXPECT_EQ(far, 0);
   // A window is not the whole mesh when the reach is small.
-  if (comm.size > 1)
+  if (comm.size > 1) {
     EXPECT_LT(std::int64_t(window.triangle_ids.size()), mesh.num_triangles());
+  }
 }
 
 TEST(DistributedTriangles, WindowHoldsEveryTriangleWithinReach) {

@@ -289,8 +289,9 @@ TEST(LoopPatchBasis, CreaseRulesKeepAFoldSharp) {
   EXPECT_GT(off_planes(refine(mesh, rounds)), 1e-2);
   for (std::int32_t v = 0; v < mesh.num_vertices(); ++v)
     if (mesh.positions[v].x() == 0 && mesh.positions[v].z() == 0 &&
-        (mesh.positions[v].y() == 0 || mesh.positions[v].y() == 1))
+        (mesh.positions[v].y() == 0 || mesh.positions[v].y() == 1)) {
       EXPECT_EQ(refined_sharp.positions[v], mesh.positions[v]) << "fold end " << v;
+    }
 }
 
 TEST(LoopPatchBasis, CreaseRulesEqualTheLimitOfCreasedLoopSubdivisionAtDyadicPoints) {

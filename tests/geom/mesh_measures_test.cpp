@@ -36,7 +36,7 @@ TEST(MeshMeasures, VertexNormalsOfSpherePointOutward) {
 TEST(MeshMeasures, RunNormalsAreTheWholeMeshsBits) {
   const auto mesh = noisy(icosphere(3), 0.05, 2);
   const auto whole = vertex_normals(mesh);
-  for (const auto [first, count] :
+  for (const auto& [first, count] :
        {std::pair<std::int64_t, std::int64_t>{0, 642}, {100, 1}, {317, 200}, {641, 1}, {5, 0}}) {
     const auto run = vertex_normals(mesh, first, count);
     ASSERT_EQ(run.size(), std::size_t(count));

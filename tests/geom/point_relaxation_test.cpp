@@ -347,8 +347,9 @@ void check_relaxation(const TriangleMesh& mesh, std::int64_t count, std::uint64_
   // cover a region many moves wide (thousands of points per rank), never the whole mesh.
   EXPECT_GE(report.window_fetches, 1);
   EXPECT_LT(report.window_fetches, settings.iterations);
-  if (comm.size > 1 && count >= 5000 * comm.size)
+  if (comm.size > 1 && count >= 5000 * comm.size) {
     EXPECT_LT(report.window_triangles_max, 3 * mesh.num_triangles() / 4) << report.window_fetches;
+  }
 
   // Every point lies on its triangle.
   int off = 0;

@@ -168,8 +168,9 @@ TEST(ParallelPngFile, ASmoothImageIsCompressed) {
       image.insert(image.end(), {std::uint8_t(x), std::uint8_t(y), 128});
   write_parallel_png(comm, dir / "smooth.png", kWidth, kHeight, PngPixels::rgb8,
                      share(comm, image, PngPixels::rgb8), kSegmentRows);
-  if (comm.rank == 0)
+  if (comm.rank == 0) {
     EXPECT_LT(fs::file_size(dir / "smooth.png"), image.size() / 4);
+  }
 }
 
 TEST(ParallelPngFile, RowsThatDoNotTileTheImageAreAnErrorOnEveryRank) {

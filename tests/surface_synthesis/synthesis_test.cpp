@@ -248,14 +248,16 @@ TEST(Synthesis, HaloIsWhatTheStencilsRead) {
     return id < owned ? first + id : halo[std::size_t(id - owned)];
   };
   for (std::size_t i = 0; i < stencils.current.size(); ++i)
-    if (stencils.current[i].covered())
+    if (stencils.current[i].covered()) {
       for (std::size_t k = 0; k < 3; ++k)
         ASSERT_EQ(level_id(local.current[i].vertices[k]), stencils.current[i].vertices[k]);
+    }
   for (std::size_t i = 0; i < stencils.coarser.size(); ++i)
-    if (stencils.coarser[i].covered())
+    if (stencils.coarser[i].covered()) {
       for (std::size_t k = 0; k < 3; ++k)
         ASSERT_EQ(coarser_reads[std::size_t(local.coarser[i].vertices[k])],
                   stencils.coarser[i].vertices[k]);
+    }
 }
 
 TEST(Synthesis, NoClassMemberReadsAnother) {

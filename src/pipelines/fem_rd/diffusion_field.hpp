@@ -36,11 +36,11 @@ struct DiffusionFieldSettings {
   std::string scale = "1";                             ///< fem_rd.diffusion.scale
   std::vector<std::string> species;                    ///< empty: every species
   /// fem_rd.mesh_fields: point arrays of fem_rd.mesh.file that direction and scale may read.
-  std::vector<std::string> mesh_fields;
+  std::vector<std::string> mesh_fields{};
   /// Their values (field k of mesh_fields), loaded by the pipeline before the solver is built (the
   /// file on rank 0, sampled for every rank's vertices); may stay empty while only the formulas
   /// are checked.
-  std::shared_ptr<const geom::DistributedMeshFields> mesh_field_values;
+  std::shared_ptr<const geom::DistributedMeshFields> mesh_field_values{};
 };
 
 /// The section fem_rd.diffusion with fem_rd.mesh_fields, or nothing when it is absent. InputError
