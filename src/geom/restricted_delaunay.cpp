@@ -124,12 +124,20 @@ void merge_sorted_runs(std::vector<std::pair<std::int32_t, std::int32_t>>& pairs
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
-/// How far the squared distance of another seed to a meeting point may differ from that of the
-/// piece's seed (`reference`) for the other seed to meet there too.
-double meeting_tolerance(const Vec3& point, double reference) {
-  const double r = std::sqrt(reference);
-  return kMeetingTolerance * (point.cwiseAbs().maxCoeff() + r) * r;
-}
+/// The squared distance from a meeting point to the piece's seed, and the test of whether
+/// another seed is as far within the tolerance, so that its cell meets there too.
+struct MeetingDistance {
+  MeetingDistance(const Vec3& point, const Vec3& seed)
+      : point(point), reference(squared_distance(point, seed)),
+        tolerance(kMeetingTolerance * (point.cwiseAbs().maxCoeff() + std::sqrt(reference)) *
+                  std::sqrt(reference)) {}
+  bool as_far(const Vec3& other) const {
+    return std::abs(squared_distance(point, other) - reference) <= tolerance;
+  }
+  const Vec3& point;
+  double reference;
+  double tolerance;
+};
 
 /// Whether any seed but i, a and b, among those a rank cut against, is as far from a meeting
 /// point p as i within the tolerance. When none is, MeetingTriangulator, which asks only the
@@ -156,11 +164,9 @@ private:
   struct FirstOtherSeed {
     FirstOtherSeed(const CrowdedMeetingTest& test, const Vec3& point, std::int32_t i,
                    std::int32_t a, std::int32_t b)
-        : test(test), point(point), i(i), a(a), b(b),
-          reference(squared_distance(point, test.seeds_[std::size_t(i)])),
-          tolerance(meeting_tolerance(point, reference)),
+        : test(test), distance(point, test.seeds_[std::size_t(i)]), i(i), a(a), b(b),
           // nanoflann's squared distances may differ from ours by a few ulps: a wider ball.
-          radius((reference + tolerance) * (1.0 + 1e-9) + 1e-300) {}
+          radius((distance.reference + distance.tolerance) * (1.0 + 1e-9) + 1e-300) {}
     void init() {}
     void clear() {}
     std::size_t size() const { return found ? 1 : 0; }
@@ -168,16 +174,15 @@ private:
     double worstDist() const { return radius; }
     bool addPoint(double, std::uint32_t index) {
       const auto c = std::int32_t(index);
-      if (c != i && c != a && c != b &&
-          std::abs(squared_distance(point, test.seeds_[index]) - reference) <= tolerance)
+      if (c != i && c != a && c != b && distance.as_far(test.seeds_[index]))
         found = true;
       return !found;
     }
 
     const CrowdedMeetingTest& test;
-    const Vec3& point;
+    MeetingDistance distance;
     std::int32_t i, a, b;
-    double reference, tolerance, radius;
+    double radius;
     bool found = false;
   };
 
@@ -408,12 +413,10 @@ private:
   /// cannot meet them there.
   void add_other_meeting_seeds(const Vec3& point, std::int32_t i, std::int32_t a, std::int32_t b,
                                std::vector<std::int32_t>& found) const {
-    const double reference = squared_distance(point, seeds_[std::size_t(i)]);
-    const double tolerance = meeting_tolerance(point, reference);
+    const MeetingDistance distance(point, seeds_[std::size_t(i)]);
     for (const std::int32_t cell : {i, a, b})
       for (const std::int32_t c : neighbours_.row(cell))
-        if (c != i && c != a && c != b &&
-            std::abs(squared_distance(point, seeds_[std::size_t(c)]) - reference) <= tolerance)
+        if (c != i && c != a && c != b && distance.as_far(seeds_[std::size_t(c)]))
           found.push_back(c);
   }
 
