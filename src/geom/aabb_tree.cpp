@@ -35,8 +35,23 @@ constexpr double kHitSlack = 1e-12;
 /// Sine of the angle between line and triangle below which they count as parallel.
 constexpr double kParallelSine = 1e-12;
 /// Node boxes are grown by this fraction of their largest coordinate, so round-off in the box
-/// test never drops a triangle the hit test accepts.
+/// test never drops a triangle the hit or distance test accepts.
 constexpr double kBoxPadding = 1e-9;
+
+/// A node's box grown by kBoxPadding.
+struct PaddedBox {
+  explicit PaddedBox(const CGAL::Bbox_3& box) {
+    double scale = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+      scale = std::max({scale, std::abs(box.min(axis)), std::abs(box.max(axis))});
+    const double pad = kBoxPadding * scale + std::numeric_limits<double>::min();
+    for (int axis = 0; axis < 3; ++axis) {
+      lo[axis] = box.min(axis) - pad;
+      hi[axis] = box.max(axis) + pad;
+    }
+  }
+  double lo[3], hi[3];
+};
 
 /// The line parameter where origin + t direction crosses triangle abc (Moller-Trumbore, both
 /// sides), or nullopt when it passes outside or runs parallel.
@@ -84,15 +99,11 @@ public:
   }
 
   template <class Node> bool do_intersect(const Line& line, const Node& node) const {
-    const CGAL::Bbox_3& box = node.bbox();
-    double scale = 0.0;
-    for (int axis = 0; axis < 3; ++axis)
-      scale = std::max({scale, std::abs(box.min(axis)), std::abs(box.max(axis))});
-    const double pad = kBoxPadding * scale + std::numeric_limits<double>::min();
+    const PaddedBox box(node.bbox());
     double t_lo = -std::numeric_limits<double>::infinity();
     double t_hi = std::numeric_limits<double>::infinity();
     for (int axis = 0; axis < 3; ++axis) {
-      const double lo = box.min(axis) - pad, hi = box.max(axis) + pad;
+      const double lo = box.lo[axis], hi = box.hi[axis];
       const double o = line.origin[axis], d = line.direction[axis];
       if (d == 0.0) {
         if (o < lo || o > hi)
@@ -123,6 +134,50 @@ private:
   std::int32_t best_id_ = -1;
 };
 
+/// CGAL traversal traits: visits the boxes no farther from the query than the best triangle so
+/// far (ties included) and keeps the triangle of smallest (squared distance, id).
+class LowestIdNearest {
+public:
+  LowestIdNearest(Triangles::const_iterator first, NearestTriangle start)
+      : first_(first), best_(start) {}
+
+  bool go_further() const { return true; }
+
+  template <class Primitive> void intersection(const Vec3& query, const Primitive& primitive) {
+    const auto id = static_cast<std::int32_t>(primitive.id() - first_);
+    const auto candidate = nearest_on(primitive.datum(), id, query);
+    if (candidate.squared_distance < best_.squared_distance ||
+        (candidate.squared_distance == best_.squared_distance && id < best_.triangle))
+      best_ = candidate;
+  }
+
+  template <class Node> bool do_intersect(const Vec3& query, const Node& node) const {
+    const PaddedBox box(node.bbox());
+    double squared = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double below = box.lo[axis] - query[axis];
+      const double above = query[axis] - box.hi[axis];
+      const double gap = std::max({below, above, 0.0});
+      squared += gap * gap;
+    }
+    return squared <= best_.squared_distance;
+  }
+
+  static NearestTriangle nearest_on(const Kernel::Triangle_3& triangle, std::int32_t id,
+                                    const Vec3& query) {
+    const Kernel kernel;
+    const auto q = to_cgal(query);
+    const auto projected = kernel.construct_projected_point_3_object()(triangle, q);
+    return {from_cgal(projected), id, kernel.compute_squared_distance_3_object()(q, projected)};
+  }
+
+  const NearestTriangle& result() const { return best_; }
+
+private:
+  Triangles::const_iterator first_;
+  NearestTriangle best_;
+};
+
 } // namespace
 
 struct AabbTree::Impl {
@@ -150,6 +205,17 @@ ClosestPoint AabbTree::closest_point(const Vec3& query) const {
   const auto [point, primitive] = impl_->tree.closest_point_and_primitive(to_cgal(query));
   const Vec3 p(point.x(), point.y(), point.z());
   return {p, static_cast<std::int32_t>(primitive - impl_->triangles.cbegin()), (p - query).norm()};
+}
+
+NearestTriangle AabbTree::nearest_triangle(const Vec3& query) const {
+  // CGAL's answer bounds the search; the second pass visits only boxes within that bound and
+  // settles ties by id.
+  const auto start = impl_->tree.closest_point_and_primitive(to_cgal(query)).second;
+  const auto start_id = static_cast<std::int32_t>(start - impl_->triangles.cbegin());
+  LowestIdNearest traits(impl_->triangles.cbegin(),
+                         LowestIdNearest::nearest_on(*start, start_id, query));
+  impl_->tree.traversal(query, traits);
+  return traits.result();
 }
 
 std::optional<ClosestPoint> AabbTree::nearest_line_hit(const Vec3& origin,

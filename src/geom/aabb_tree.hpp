@@ -16,6 +16,13 @@ struct ClosestPoint {
 };
 
 /// Where a line crosses a triangle: origin + t * direction.
+/// The nearest triangle as nearest_triangle() ranks them.
+struct NearestTriangle {
+  Vec3 point;              ///< the query's projection onto the triangle (CGAL's)
+  std::int32_t triangle;   ///< index into the mesh's triangles
+  double squared_distance; ///< from the query to `point`, as CGAL measures it
+};
+
 struct LineCrossing {
   std::int32_t triangle; ///< index into the mesh's triangles
   double t;
@@ -34,6 +41,14 @@ public:
 
   /// The point of the surface nearest to `query`.
   ClosestPoint closest_point(const Vec3& query) const;
+
+  /// The triangle nearest to `query` by one rule that no tree shape changes: the smallest
+  /// squared distance from the query to the triangle's projected point, ties to the smallest
+  /// triangle id. closest_point() settles ties by its traversal order instead, so two trees over
+  /// overlapping or split sets of triangles may disagree on equally near triangles (a point above
+  /// a shared edge or corner); with this rule, the nearest over a union is the nearest of the
+  /// parts' answers, by the same rule. Thread-safe.
+  NearestTriangle nearest_triangle(const Vec3& query) const;
 
   /// Where the line origin + t * direction (t of either sign) crosses the surface nearest to
   /// `origin`: the smallest |t|, ties to the smaller triangle id; `distance` is |t| |direction|.

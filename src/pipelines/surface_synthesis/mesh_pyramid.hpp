@@ -67,7 +67,7 @@ std::vector<geom::Vec3> fetch_level_positions(const par::Comm& comm, const Retil
 /// The whole level's positions on rank 0, by id (the others get none). Collective.
 std::vector<geom::Vec3> gather_level_positions(const par::Comm& comm, const RetiledLevel& level);
 
-/// The whole level on rank 0 (the others get an empty mesh): rank 0's outputs and tests.
+/// The whole level on rank 0 (the others get an empty mesh), for tests.
 /// Collective.
 geom::TriangleMesh gather_level_mesh(const par::Comm& comm, const RetiledLevel& level);
 

@@ -1,13 +1,14 @@
 #include "pipelines/surface_synthesis/surface_outputs.hpp"
 
 #include "geom/bump_map.hpp"
-#include "geom/surface_field_sampler.hpp"
+#include "geom/split_surface_sampler.hpp"
 #include "geom/texture_atlas.hpp"
 #include "img/colour_histogram.hpp"
 #include "img/image_io.hpp"
 #include "io/parallel_surface_writer.hpp"
 #include "io/textured_obj_writer.hpp"
 #include "par/collective.hpp"
+#include "par/fetch_from_owners.hpp"
 #include "par/gather_to_root.hpp"
 
 #include <mpi.h>
@@ -15,22 +16,26 @@
 namespace texsim::pipelines::surface_synthesis {
 namespace {
 
-/// The finest level's colours at every vertex of M_s: linear on the retiled triangle nearest to
-/// each vertex.
-std::vector<img::Rgb> colours_on_surface(const geom::TriangleMesh& surface,
-                                         const geom::TriangleMesh& finest,
-                                         std::span<const img::Rgb> colours) {
-  std::vector<std::vector<double>> channels(3);
-  for (const auto& c : colours)
-    for (int ch = 0; ch < 3; ++ch)
-      channels[std::size_t(ch)].push_back(c[ch]);
-  const geom::SurfaceFieldSampler sampler(finest, std::move(channels));
-  std::vector<img::Rgb> result(surface.positions.size());
-  for (int ch = 0; ch < 3; ++ch) {
-    const auto values = sampler.sample(std::size_t(ch), surface.positions);
-    for (std::size_t v = 0; v < values.size(); ++v)
-      result[v][ch] = float(values[v]);
-  }
+/// The finest level's colours at every vertex of M_s (rank 0's `surface`): linear on the retiled
+/// triangle nearest to each vertex, found on the ranks' shares of the level (their corners'
+/// colours fetched from the owners' runs). Empty on the other ranks. Collective.
+std::vector<img::Rgb> colours_on_surface(const par::Comm& comm, const geom::TriangleMesh& surface,
+                                         const RetiledLevel& finest, const LevelColours& colours) {
+  const geom::LocalSurface& share = finest.triangles.owned_surface();
+  const auto corner_colours = par::fetch_from_owners(comm, finest.rank_offsets, share.vertex_ids,
+                                                     std::span<const img::Rgb>(colours.colours));
+  std::vector<std::array<double, 3>> values;
+  values.reserve(corner_colours.size());
+  for (const auto& c : corner_colours)
+    values.push_back({c.r, c.g, c.b});
+  const auto sampled =
+      geom::sample_split_surface(comm, share.mesh, share.triangle_ids, values,
+                                 comm.rank == 0 ? std::span<const geom::Vec3>(surface.positions)
+                                                : std::span<const geom::Vec3>());
+  std::vector<img::Rgb> result;
+  result.reserve(sampled.size());
+  for (const auto& v : sampled)
+    result.push_back({float(v[0]), float(v[1]), float(v[2])});
   return result;
 }
 
@@ -67,21 +72,19 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
                                      const SurfaceSynthesisSettings& settings,
                                      const std::filesystem::path& output_dir) {
   SurfaceOutputs outputs;
-  // Rank 0, which holds M_s, takes the whole finest level and its colours (the runs in rank order
-  // are the vertices in id order).
+  // Rank 0 takes the finest level's colours for their histogram (the runs in rank order are the
+  // vertices in id order).
   const auto finest_colours = par::gather_to_root(comm, std::span(colours.colours));
-  const auto finest_mesh = gather_level_mesh(comm, finest);
   if (comm.rank == 0)
     outputs.histogram_distance = img::histogram_distance(
         {reinterpret_cast<const float*>(finest_colours.data()), 3 * finest_colours.size()},
         {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()}, 3);
   MPI_Bcast(&outputs.histogram_distance, 1, MPI_DOUBLE, 0, comm.raw);
 
-  std::vector<img::Rgb> on_surface;
+  const std::vector<img::Rgb> on_surface = colours_on_surface(comm, surface, finest, colours);
   std::vector<double> xyz, colour_values, height;
   std::vector<std::int64_t> triangles;
   if (comm.rank == 0) {
-    on_surface = colours_on_surface(surface, finest_mesh, finest_colours);
     xyz = xyz_of(surface.positions);
     for (const auto& c : on_surface) {
       colour_values.insert(colour_values.end(), {c.r, c.g, c.b});
