@@ -151,10 +151,10 @@ bool same_on_every_rank(const par::Comm& comm, const std::vector<char>& bytes) {
 }
 
 /// Every used texel with the surface point it shows (those of a compositor with no patches).
-std::vector<UncoveredTexel> used_texels(const par::Comm& comm, const geom::TriangleMesh& mesh,
+std::vector<UncoveredTexel> used_texels(const par::Comm& comm, const FrameSurface& frame,
                                         const geom::TextureAtlas& atlas,
                                         const ErosionMask& erosion) {
-  const AtlasCompositor empty(comm, mesh, atlas, 32, erosion);
+  const AtlasCompositor empty(comm, frame, atlas, 32, erosion);
   return empty.first_uncovered(std::numeric_limits<std::size_t>::max());
 }
 
@@ -165,10 +165,10 @@ TEST(AtlasCompositorGutters, EveryTexelShowsTheLowestIdNonErodedPatchAtItsSurfac
   const auto atlas = slanted_square_atlas(frame.mesh, gutter);
   const auto erosion = ramp_erosion();
   const auto patches = square_patches(frame);
-  AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
+  AtlasCompositor compositor(comm, frame, atlas, 16, erosion);
   compositor.composite(share(comm, patches));
   const auto image = compositor.rows(0, compositor.resolution());
-  const auto texels = used_texels(comm, frame.mesh, atlas, erosion);
+  const auto texels = used_texels(comm, frame, atlas, erosion);
   if (comm.rank != 0)
     return;
   std::size_t far_gutter_texels = 0, covered = 0;
@@ -220,7 +220,7 @@ TEST(AtlasCompositorQueries, AgreeWithTheGatheredAtlas) {
   const auto atlas = slanted_square_atlas(frame.mesh, 2);
   const auto erosion = ramp_erosion();
   const auto patches = square_patches(frame);
-  AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
+  AtlasCompositor compositor(comm, frame, atlas, 16, erosion);
   const std::vector<Patch> first(patches.begin(), patches.begin() + 3);
   compositor.composite(share(comm, first));
   auto image = compositor.rows(0, compositor.resolution());
@@ -316,9 +316,9 @@ TEST(AtlasCompositorQueries, CoveredTexelsAreWhatCompositingTheLonePatchGives) {
       {sphere.frame, sphere.atlas, patches_at(sphere.frame, sphere_centres(4), 0.4, true)},
       {plane, slanted, square_patches(plane)}};
   for (const auto& [frame, atlas, patches] : cases) {
-    const auto texels = used_texels(comm, frame.mesh, atlas, erosion);
+    const auto texels = used_texels(comm, frame, atlas, erosion);
     for (const auto& patch : patches) {
-      AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
+      AtlasCompositor compositor(comm, frame, atlas, 16, erosion);
       compositor.composite(comm.rank == 0 ? std::vector<Patch>{patch} : std::vector<Patch>{});
       const auto image = compositor.rows(0, compositor.resolution());
       if (comm.rank != 0)
@@ -340,13 +340,13 @@ TEST(AtlasCompositorQueries, SameBytesAsOneRank) {
   const ChartedSphere sphere(128);
   const auto erosion = ramp_erosion();
   const auto patches = patches_at(sphere.frame, sphere_centres(24), 0.35, true);
-  AtlasCompositor spread(comm, sphere.frame.mesh, sphere.atlas, 16, erosion);
+  AtlasCompositor spread(comm, sphere.frame, sphere.atlas, 16, erosion);
   spread.composite(share(comm, patches));
   const auto image = spread.rows(0, spread.resolution());
   if (comm.rank != 0)
     return;
   const par::Comm self{MPI_COMM_SELF, 0, 1};
-  AtlasCompositor alone(self, sphere.frame.mesh, sphere.atlas, 40, erosion);
+  AtlasCompositor alone(self, sphere.frame, sphere.atlas, 40, erosion);
   alone.composite(patches);
   const auto reference = alone.rows(0, alone.resolution());
   EXPECT_EQ(bytes_of(image), bytes_of(reference));
@@ -361,10 +361,10 @@ TEST(AtlasCompositorQueries, SphereTexelUvIsThePatchUvAtTheTexelsSurfacePoint) {
   std::vector<Patch> patches;
   for (auto& patch : patches_at(sphere.frame, sphere_centres(24), radius, false))
     patches.push_back(slid_on_sphere(sphere.frame, std::move(patch)));
-  AtlasCompositor compositor(comm, sphere.frame.mesh, sphere.atlas, 16, erosion);
+  AtlasCompositor compositor(comm, sphere.frame, sphere.atlas, 16, erosion);
   compositor.composite(share(comm, patches));
   const auto image = compositor.rows(0, compositor.resolution());
-  const auto texels = used_texels(comm, sphere.frame.mesh, sphere.atlas, erosion);
+  const auto texels = used_texels(comm, sphere.frame, sphere.atlas, erosion);
   if (comm.rank != 0)
     return;
   // One texel in the patch's uv: r is 0.5 in uv.

@@ -70,7 +70,7 @@ TEST(AtlasCompositor, LowestIdNonErodedPatchWinsEveryTexel) {
   const auto atlas = planar_atlas(frame.mesh, kResolution, 0);
   const auto erosion = ramp_erosion();
   const auto patches = plane_patches(frame);
-  AtlasCompositor compositor(comm, frame.mesh, atlas, 16, erosion);
+  AtlasCompositor compositor(comm, frame, atlas, 16, erosion);
   compositor.composite(share(comm, patches, false));
   const auto image = whole_on_root(comm, compositor);
   if (comm.rank != 0)
@@ -131,13 +131,13 @@ TEST(AtlasCompositor, AnySplitOfThePatchesGivesTheSameBytesAndLaterPatchesOnlyFi
   const auto atlas = planar_atlas(frame.mesh, kResolution, 0);
   const auto erosion = ramp_erosion();
   const auto patches = plane_patches(frame);
-  AtlasCompositor spread(comm, frame.mesh, atlas, 16, erosion);
+  AtlasCompositor spread(comm, frame, atlas, 16, erosion);
   spread.composite(share(comm, patches, false));
-  AtlasCompositor on_root(comm, frame.mesh, atlas, 24, erosion);
+  AtlasCompositor on_root(comm, frame, atlas, 24, erosion);
   on_root.composite(share(comm, patches, true));
   const auto a = whole_on_root(comm, spread), b = whole_on_root(comm, on_root);
   // In two calls: the first three, then the rest below them.
-  AtlasCompositor layered(comm, frame.mesh, atlas, 16, erosion);
+  AtlasCompositor layered(comm, frame, atlas, 16, erosion);
   const std::vector<Patch> first(patches.begin(), patches.begin() + 3),
       rest(patches.begin() + 3, patches.end());
   layered.composite(share(comm, first, false));
@@ -164,7 +164,7 @@ TEST(AtlasCompositor, EachRankGetsTheRowsItAsksFor) {
   const FrameSurface frame(geom::plane(Vec3(1, 1, 0), 20));
   const auto atlas = planar_atlas(frame.mesh, kResolution, 0);
   const auto erosion = ramp_erosion();
-  AtlasCompositor compositor(comm, frame.mesh, atlas, 24, erosion);
+  AtlasCompositor compositor(comm, frame, atlas, 24, erosion);
   compositor.composite(share(comm, plane_patches(frame), false));
   const auto all = compositor.rows(0, kResolution);
   // Overlapping ranges that cut tiles (24 rows) anywhere, one per rank.
@@ -204,7 +204,7 @@ TEST(AtlasCompositor, APatchAcrossAChartSeamIsDrawnIntoBothCharts) {
     }
   }
   ASSERT_GE(across.id, 0);
-  AtlasCompositor compositor(comm, frame.mesh, atlas, 64, keep_all);
+  AtlasCompositor compositor(comm, frame, atlas, 64, keep_all);
   compositor.composite(comm.rank == 0 ? std::vector<Patch>{across} : std::vector<Patch>{});
   const auto image = whole_on_root(comm, compositor);
   if (comm.rank != 0)

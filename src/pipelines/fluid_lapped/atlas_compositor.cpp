@@ -2,7 +2,6 @@
 
 #include "core/error.hpp"
 #include "geom/mesh_measures.hpp"
-#include "geom/mesh_topology.hpp"
 #include "par/record_exchange.hpp"
 
 #include <mpi.h>
@@ -184,18 +183,17 @@ geom::TexelRect sampling_box(const MappedTriangle& m, int gutter) {
 
 } // namespace
 
-AtlasCompositor::AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh& frame,
+AtlasCompositor::AtlasCompositor(const par::Comm& comm, const FrameSurface& frame,
                                  const geom::TextureAtlas& atlas, int tile_size,
                                  const ErosionMask& erosion)
-    : comm_(comm), frame_(frame), atlas_(atlas), index_(frame, atlas),
+    : comm_(comm), frame_(frame.mesh), atlas_(atlas), index_(frame.mesh, atlas),
       resolution_(atlas.resolution), tile_size_(tile_size), erosion_(erosion) {
   TEXSIM_VERIFY(tile_size > 0, "atlas tile size must be positive");
-  const geom::MeshTopology topology(frame);
-  across_seam_.resize(frame.triangles.size());
-  for (std::int32_t t = 0; t < frame.num_triangles(); ++t) {
+  across_seam_.resize(frame_.triangles.size());
+  for (std::int32_t t = 0; t < frame_.num_triangles(); ++t) {
     auto& across = across_seam_[std::size_t(t)];
-    for (const auto corner : frame.triangles[std::size_t(t)])
-      for (const auto other : topology.vertex_triangles().row(corner)) {
+    for (const auto corner : frame_.triangles[std::size_t(t)])
+      for (const auto other : frame.topology.vertex_triangles().row(corner)) {
         const auto chart = atlas.chart_of_triangle[std::size_t(other)];
         if (chart != atlas.chart_of_triangle[std::size_t(t)] &&
             std::none_of(across.begin(), across.end(),

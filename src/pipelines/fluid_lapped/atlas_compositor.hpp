@@ -14,6 +14,7 @@
 #include "geom/texture_atlas.hpp"
 #include "par/comm.hpp"
 #include "pipelines/fluid_lapped/erosion_mask.hpp"
+#include "pipelines/fluid_lapped/frame_surface.hpp"
 #include "pipelines/fluid_lapped/patch.hpp"
 #include "pipelines/fluid_lapped/uncovered_texel_index.hpp"
 
@@ -58,10 +59,11 @@ struct AtlasCoverage {
 
 class AtlasCompositor {
 public:
-  /// `frame` and `atlas` (geom::build_texture_atlas of it, or a planar atlas) are the same on
-  /// every rank; `erosion` must outlive the compositor. Collective (each rank sets up its tiles).
-  AtlasCompositor(const par::Comm& comm, const geom::TriangleMesh& frame,
-                  const geom::TextureAtlas& atlas, int tile_size, const ErosionMask& erosion);
+  /// `frame` and `atlas` (geom::build_texture_atlas of frame.mesh, or a planar atlas) are the
+  /// same on every rank; `frame` and `erosion` must outlive the compositor. Collective (each rank
+  /// sets up its tiles).
+  AtlasCompositor(const par::Comm& comm, const FrameSurface& frame, const geom::TextureAtlas& atlas,
+                  int tile_size, const ErosionMask& erosion);
 
   /// Adds patches below all those composited so far: a texel still uncovered takes, among the
   /// patches of all ranks in this call, the lowest id whose sample there (patch_sample) is not

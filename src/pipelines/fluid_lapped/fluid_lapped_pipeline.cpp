@@ -247,7 +247,7 @@ void FluidLappedPipeline::run(RunContext& ctx) {
     std::optional<AtlasCompositor> compositor;
     {
       auto stage = ctx.timers.scope("atlas");
-      compositor.emplace(comm, surface.mesh, prepared->atlas, settings_.atlas.tile, erosion);
+      compositor.emplace(comm, surface, prepared->atlas, settings_.atlas.tile, erosion);
       compositor->composite(state.patches);
     }
     PopulationReport populated;
