@@ -23,6 +23,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <utility>
 
 namespace texsim::geom {
@@ -46,7 +47,10 @@ struct PieceSummary {
   std::int32_t triangle = -1;
   std::int32_t seed = -1;
   double area = 0.0;
-  std::uint32_t first_border = 0; ///< into DualInput::borders
+  /// Into DualInput::borders. In the parallel join rank 0 holds the borders of the handed-over
+  /// pieces only (PieceOwners::orphan_pieces, fetched from the cutting ranks); the others have
+  /// none.
+  std::uint32_t first_border = 0;
   std::uint32_t border_count = 0;
   /// Bit c: a boundary edge of the piece runs along side c (corners c, c + 1) of its triangle, so
   /// the piece may join its seed's piece across that side.
@@ -256,8 +260,10 @@ CsrAdjacency voronoi_neighbours(const DualInput& input, std::size_t num_seeds) {
 /// sharing the longest border with it, so that the dual is that of a tiling by connected cells.
 class PieceOwners {
 public:
-  PieceOwners(const TriangleMesh& surface, std::span<const std::int64_t> seed_ids,
-              const DualInput& input)
+  /// Groups the pieces into connected components and finds each seed's largest; the pieces of
+  /// the others are orphan_pieces(), which hand_over_orphans() assigns once `input` holds their
+  /// borders.
+  PieceOwners(const TriangleMesh& surface, std::size_t num_seeds, const DualInput& input)
       : input_(input), first_piece_(std::size_t(surface.num_triangles()) + 1, 0),
         owner_(input.pieces.size()) {
     for (const PieceSummary& piece : input.pieces)
@@ -265,7 +271,38 @@ public:
     std::partial_sum(first_piece_.begin(), first_piece_.end(), first_piece_.begin());
     for (std::size_t p = 0; p < input.pieces.size(); ++p)
       owner_[p] = input.pieces[p].seed;
-    hand_over_orphans(seed_ids, components(surface));
+    find_orphans(num_seeds, components(surface));
+  }
+
+  /// The pieces outside their seed's largest component, in increasing order.
+  const std::vector<std::size_t>& orphan_pieces() const { return orphans_; }
+
+  /// Hands each orphan component to the neighbour sharing the longest border with it (the
+  /// borders of orphan_pieces() are read from the input).
+  void hand_over_orphans(std::span<const std::int64_t> seed_ids) {
+    // Border lengths of every orphan component with its neighbours, summed in piece order.
+    std::map<std::size_t, std::map<std::int32_t, double>> orphan_borders;
+    for (std::size_t k = 0; k < orphans_.size(); ++k) {
+      const PieceSummary& piece = input_.pieces[orphans_[k]];
+      auto& borders = orphan_borders[orphan_roots_[k]];
+      const auto first = input_.borders.begin() + piece.first_border;
+      for (auto border = first; border != first + piece.border_count; ++border)
+        borders[border->first] += border->second;
+    }
+    std::map<std::size_t, std::int32_t> heir;
+    for (const auto& [component, borders] : orphan_borders) {
+      std::int32_t best = -1;
+      for (const auto& [other, length] : borders)
+        if (best < 0 || length > borders.at(best) ||
+            (length == borders.at(best) &&
+             seed_ids[std::size_t(other)] < seed_ids[std::size_t(best)]))
+          best = other;
+      if (best >= 0)
+        heir[component] = best;
+    }
+    for (std::size_t k = 0; k < orphans_.size(); ++k)
+      if (const auto found = heir.find(orphan_roots_[k]); found != heir.end())
+        owner_[orphans_[k]] = found->second;
   }
 
   /// The cell whose region `cell`'s piece in triangle t counts for: `cell` itself unless that piece
@@ -324,55 +361,39 @@ private:
     return parent;
   }
 
-  void hand_over_orphans(std::span<const std::int64_t> seed_ids,
-                         const std::vector<std::size_t>& root) {
+  void find_orphans(std::size_t num_seeds, const std::vector<std::size_t>& root) {
     const auto& pieces = input_.pieces;
     std::vector<double> component_area(pieces.size(), 0.0);
     for (std::size_t p = 0; p < pieces.size(); ++p)
       component_area[root[p]] += pieces[p].area;
     // Each seed's largest component (exact ties: the first in piece order).
-    std::vector<std::int64_t> main_root(seed_ids.size(), -1);
+    std::vector<std::int64_t> main_root(num_seeds, -1);
     for (std::size_t p = 0; p < pieces.size(); ++p) {
       std::int64_t& best = main_root[std::size_t(pieces[p].seed)];
       if (best < 0 || component_area[root[p]] > component_area[std::size_t(best)])
         best = std::int64_t(root[p]);
     }
-    // Border lengths of every other component with its neighbours, summed in piece order.
-    std::map<std::size_t, std::map<std::int32_t, double>> orphan_borders;
     for (std::size_t p = 0; p < pieces.size(); ++p)
       if (std::int64_t(root[p]) != main_root[std::size_t(pieces[p].seed)]) {
-        auto& borders = orphan_borders[root[p]];
-        const auto first = input_.borders.begin() + pieces[p].first_border;
-        for (auto border = first; border != first + pieces[p].border_count; ++border)
-          borders[border->first] += border->second;
+        orphans_.push_back(p);
+        orphan_roots_.push_back(root[p]);
       }
-    std::map<std::size_t, std::int32_t> heir;
-    for (const auto& [component, borders] : orphan_borders) {
-      std::int32_t best = -1;
-      for (const auto& [other, length] : borders)
-        if (best < 0 || length > borders.at(best) ||
-            (length == borders.at(best) &&
-             seed_ids[std::size_t(other)] < seed_ids[std::size_t(best)]))
-          best = other;
-      if (best >= 0)
-        heir[component] = best;
-    }
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-      if (const auto found = heir.find(root[p]); found != heir.end())
-        owner_[p] = found->second;
   }
 
   const DualInput& input_;
-  std::vector<std::size_t> first_piece_; ///< per triangle: its first piece (pieces sorted by it)
-  std::vector<std::int32_t> owner_;      ///< per piece
+  std::vector<std::size_t> first_piece_;  ///< per triangle: its first piece (pieces sorted by it)
+  std::vector<std::int32_t> owner_;       ///< per piece
+  std::vector<std::size_t> orphans_;      ///< the pieces outside their seed's largest component
+  std::vector<std::size_t> orphan_roots_; ///< each orphan's component (its union-find root)
 };
 
 class MeetingTriangulator {
 public:
   MeetingTriangulator(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                      std::span<const std::int64_t> seed_ids, const DualInput& input)
+                      std::span<const std::int64_t> seed_ids, const DualInput& input,
+                      const PieceOwners& owners)
       : surface_(surface), seeds_(seeds), ids_(seed_ids), input_(input),
-        neighbours_(voronoi_neighbours(input, seeds.size())), owners_(surface, seed_ids, input) {}
+        neighbours_(voronoi_neighbours(input, seeds.size())), owners_(owners) {}
 
   /// Appends the triangles of one meeting to `out`, counter-clockwise: (seed, a, b) when exactly
   /// three cells meet there, else the fan of every meeting seed from the smallest id; then each
@@ -450,7 +471,7 @@ private:
   std::span<const std::int64_t> ids_;
   const DualInput& input_;
   CsrAdjacency neighbours_;
-  PieceOwners owners_;
+  const PieceOwners& owners_;
 };
 
 /// One sighting of a triangle: its vertices in increasing id order and whether it was seen in that
@@ -541,14 +562,16 @@ DualInput dual_input(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return input;
 }
 
-/// The triangles of the dual of the pieces in `input` (of `surface`'s triangles).
+/// The triangles of the dual of the pieces in `input` (of `surface`'s triangles), each piece
+/// counting for the cell `owners` (orphans handed over) says.
 TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
-                       std::span<const std::int64_t> seed_ids, const DualInput& input) {
+                       std::span<const std::int64_t> seed_ids, const DualInput& input,
+                       const PieceOwners& owners) {
   TEXSIM_VERIFY(input.pieces.size() < std::size_t(std::numeric_limits<std::int32_t>::max()) &&
                     input.borders.size() < std::size_t(std::numeric_limits<std::uint32_t>::max()),
                 "restricted_delaunay: more than 2^31 Voronoi pieces");
 
-  const MeetingTriangulator triangulator(surface, seeds, seed_ids, input);
+  const MeetingTriangulator triangulator(surface, seeds, seed_ids, input, owners);
   const auto& meetings = input.meetings;
   // Each thread keeps its meetings' sightings in one vector (not a vector per meeting, which cost
   // more than the sightings themselves). The order in which they are joined does not matter:
@@ -580,28 +603,26 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
   return mesh;
 }
 
-/// The counts at the head of a serialized dual input: pieces, borders, meetings, meeting points,
-/// neighbour pairs.
-using DualInputCounts = std::array<std::uint64_t, 5>;
+/// The counts at the head of a serialized dual input: pieces, meetings, meeting points, neighbour
+/// pairs.
+using DualInputCounts = std::array<std::uint64_t, 4>;
 
-/// A rank's dual input on the wire: counts, then the pieces (borders counted, not indexed), the
-/// borders, the meetings, their points and the neighbour pairs, as plain numbers.
+/// A rank's dual input on the wire: counts, then the pieces, the meetings, their points and the
+/// neighbour pairs, as plain numbers. The borders stay with the rank: rank 0 asks for those of
+/// the handed-over pieces only (fetch_orphan_borders).
 std::vector<std::byte> serialize(const DualInput& input) {
   std::vector<std::byte> bytes;
   constexpr std::size_t kPieceBytes =
-      2 * sizeof(std::int32_t) + sizeof(double) + sizeof(std::uint32_t) + sizeof(std::uint8_t);
-  constexpr std::size_t kBorderBytes = sizeof(std::int32_t) + sizeof(double);
+      2 * sizeof(std::int32_t) + sizeof(double) + sizeof(std::uint8_t);
   constexpr std::size_t kMeetingBytes = 4 * sizeof(std::int32_t);
   bytes.reserve(sizeof(DualInputCounts) + input.pieces.size() * kPieceBytes +
-                input.borders.size() * kBorderBytes + input.meetings.size() * kMeetingBytes +
-                input.meeting_points.size() * sizeof(Vec3) +
+                input.meetings.size() * kMeetingBytes + input.meeting_points.size() * sizeof(Vec3) +
                 input.neighbour_pairs.size() * 2 * sizeof(std::int32_t));
   const auto put = [&bytes](const auto& value) {
     const auto* raw = reinterpret_cast<const std::byte*>(&value);
     bytes.insert(bytes.end(), raw, raw + sizeof(value));
   };
   put(std::uint64_t(input.pieces.size()));
-  put(std::uint64_t(input.borders.size()));
   put(std::uint64_t(input.meetings.size()));
   put(std::uint64_t(input.meeting_points.size()));
   put(std::uint64_t(input.neighbour_pairs.size()));
@@ -609,12 +630,7 @@ std::vector<std::byte> serialize(const DualInput& input) {
     put(piece.triangle);
     put(piece.seed);
     put(piece.area);
-    put(piece.border_count);
     put(piece.linked_sides);
-  }
-  for (const auto& [seed, length] : input.borders) {
-    put(seed);
-    put(length);
   }
   for (const Meeting& meeting : input.meetings) {
     put(meeting.piece);
@@ -646,14 +662,14 @@ void reserve_for_parts(const par::Comm& comm, std::span<const std::byte> mine, D
     for (std::size_t k = 0; k < total.size(); ++k)
       total[k] += part[k];
   input.pieces.reserve(total[0]);
-  input.borders.reserve(total[1]);
-  input.meetings.reserve(total[2]);
-  input.meeting_points.reserve(total[3]);
-  input.neighbour_pairs.reserve(total[4]);
+  input.meetings.reserve(total[1]);
+  input.meeting_points.reserve(total[2]);
+  input.neighbour_pairs.reserve(total[3]);
 }
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
-/// its triangle, border, piece and meeting-point indices are moved past the ones already there.
+/// its triangle, piece and meeting-point indices are moved past the ones already there (its pieces
+/// without borders).
 /// Appending the ranks' parts in order gives the serial input once the neighbour pairs, sorted
 /// within each part, are merged (once at the end: merging at every rank would cost ranks x pairs).
 void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
@@ -662,33 +678,20 @@ void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualI
     std::memcpy(&value, bytes.data() + at, sizeof(value));
     at += sizeof(value);
   };
-  std::uint64_t pieces = 0, borders = 0, meetings = 0, points = 0, pairs = 0;
+  std::uint64_t pieces = 0, meetings = 0, points = 0, pairs = 0;
   get(pieces);
-  get(borders);
   get(meetings);
   get(points);
   get(pairs);
   const auto first_piece = std::int32_t(input.pieces.size());
-  auto first_border = std::uint64_t(input.borders.size());
   for (std::uint64_t p = 0; p < pieces; ++p) {
     PieceSummary piece;
     get(piece.triangle);
     get(piece.seed);
     get(piece.area);
-    get(piece.border_count);
     get(piece.linked_sides);
     piece.triangle += first_triangle;
-    piece.first_border = std::uint32_t(first_border);
-    first_border += piece.border_count;
     input.pieces.push_back(piece);
-  }
-  TEXSIM_VERIFY(first_border == input.borders.size() + borders,
-                "restricted_delaunay: a rank's borders do not match its pieces");
-  for (std::uint64_t b = 0; b < borders; ++b) {
-    std::pair<std::int32_t, double> border;
-    get(border.first);
-    get(border.second);
-    input.borders.push_back(border);
   }
   const auto first_point = std::int32_t(input.meeting_points.size());
   for (std::uint64_t m = 0; m < meetings; ++m) {
@@ -716,6 +719,67 @@ void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualI
     input.neighbour_pairs.push_back(pair);
   }
   TEXSIM_VERIFY(at == bytes.size(), "restricted_delaunay: a rank's dual input has trailing bytes");
+}
+
+/// A rank's pieces' borders, kept after its dual input went to rank 0: piece k's are
+/// borders[begin[k]] .. borders[begin[k + 1] - 1].
+struct KeptBorders {
+  std::vector<std::uint32_t> begin;
+  std::vector<std::pair<std::int32_t, double>> borders;
+};
+
+KeptBorders keep_borders(DualInput& input) {
+  KeptBorders kept;
+  kept.begin.reserve(input.pieces.size() + 1);
+  for (const PieceSummary& piece : input.pieces)
+    kept.begin.push_back(piece.first_border);
+  kept.begin.push_back(std::uint32_t(input.borders.size()));
+  kept.borders = std::move(input.borders);
+  return kept;
+}
+
+/// Rank 0's request for a piece's borders: its index among all pieces and among its rank's.
+struct BorderRequest {
+  std::int32_t piece;
+  std::int32_t local;
+};
+
+/// One border of a requested piece.
+struct BorderRecord {
+  std::int32_t piece;
+  std::int32_t seed;
+  double length;
+};
+
+/// Gives rank 0's `input` the borders of pieces `orphans` (increasing indices into input.pieces,
+/// rank r's pieces starting at piece_begin[r]) from the ranks that cut them and kept them. A
+/// handful of pieces instead of every piece's borders (about 3.5 per piece, 16 bytes each).
+/// Collective; `orphans` and `piece_begin` are read on rank 0 only.
+void fetch_orphan_borders(const par::Comm& comm, std::span<const std::size_t> orphans,
+                          std::span<const std::size_t> piece_begin, const KeptBorders& kept,
+                          DualInput& input) {
+  std::vector<std::vector<BorderRequest>> requests(std::size_t(comm.size));
+  for (const std::size_t p : orphans) {
+    const auto rank = std::size_t(std::upper_bound(piece_begin.begin(), piece_begin.end(), p) -
+                                  piece_begin.begin()) -
+                      1;
+    requests[rank].push_back({std::int32_t(p), std::int32_t(p - piece_begin[rank])});
+  }
+  const auto asked = par::exchange_records(comm, std::move(requests));
+  std::vector<std::vector<BorderRecord>> answers(std::size_t(comm.size));
+  for (const BorderRequest& request : asked)
+    for (auto b = kept.begin[std::size_t(request.local)];
+         b < kept.begin[std::size_t(request.local) + 1]; ++b)
+      answers[0].push_back({request.piece, kept.borders[b].first, kept.borders[b].second});
+  // From rank 0 in increasing piece order, each rank's pieces in order: each piece's borders
+  // arrive together.
+  for (const BorderRecord& border : par::exchange_records(comm, std::move(answers))) {
+    PieceSummary& piece = input.pieces[std::size_t(border.piece)];
+    if (piece.border_count == 0)
+      piece.first_border = std::uint32_t(input.borders.size());
+    ++piece.border_count;
+    input.borders.emplace_back(border.seed, border.length);
+  }
 }
 
 /// Seeds a rank cuts its triangles against, and each one's index among all seeds (rank order).
@@ -841,7 +905,10 @@ SeedView seeds_on_root(const par::Comm& comm, std::span<const Vec3> run_seeds,
 TriangleMesh restricted_delaunay(const TriangleMesh& surface, std::span<const Vec3> seeds,
                                  std::span<const std::int64_t> seed_ids,
                                  std::int32_t chunk_triangles) {
-  return dual_mesh(surface, seeds, seed_ids, dual_input(surface, seeds, seed_ids, chunk_triangles));
+  const DualInput input = dual_input(surface, seeds, seed_ids, chunk_triangles);
+  PieceOwners owners(surface, seeds.size(), input);
+  owners.hand_over_orphans(seed_ids);
+  return dual_mesh(surface, seeds, seed_ids, input, owners);
 }
 
 TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
@@ -887,21 +954,35 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
   const std::int64_t triangles = curve.num_triangles();
   DualInput input;
   std::vector<std::size_t> pair_run_ends; // each rank's pairs are sorted and unique
+  std::vector<std::size_t> piece_begin;   // each rank's first piece in `input`
+  KeptBorders kept;
   {
     std::vector<std::byte> bytes = serialize(mine);
+    kept = keep_borders(mine);
     mine = DualInput();
     reserve_for_parts(comm, bytes, input);
     par::stream_to_root(comm, bytes, [&](int rank, std::span<const std::byte> part) {
+      piece_begin.push_back(input.pieces.size());
       append(part, std::int32_t(par::even_run_begin(triangles, rank, comm.size)), input);
       pair_run_ends.push_back(input.neighbour_pairs.size());
     });
   } // rank 0's own serialized part is gone before the join
   merge_sorted_runs(input.neighbour_pairs, std::move(pair_run_ends));
   const SeedView all_on_root = seeds_on_root(comm, run_seeds, run_ids);
-  TriangleMesh mesh;
+  std::optional<PieceOwners> owners;
   par::run_collectively(comm, [&] {
     if (comm.is_root())
-      mesh = dual_mesh(curve, all_on_root.positions, all_on_root.ids, input);
+      owners.emplace(curve, all_on_root.positions.size(), input);
+  });
+  fetch_orphan_borders(comm, owners ? owners->orphan_pieces() : std::vector<std::size_t>{},
+                       piece_begin, kept, input);
+  kept = KeptBorders();
+  TriangleMesh mesh;
+  par::run_collectively(comm, [&] {
+    if (comm.is_root()) {
+      owners->hand_over_orphans(all_on_root.ids);
+      mesh = dual_mesh(curve, all_on_root.positions, all_on_root.ids, input, *owners);
+    }
   });
   return mesh;
 }

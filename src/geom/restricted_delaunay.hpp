@@ -74,8 +74,9 @@ struct SeedHaloReport {
 /// seed (E: T's longest edge), and the halo around T is grown by E too. Each rank checks it on
 /// the pieces it cut; when any rank's check fails, or its seeds cannot certify a cell, every rank
 /// cuts again against every seed (gathered on every rank). Rank 0 then gathers the pieces'
-/// summaries and the seeds and joins them as above, on the surface in curve order: the result
-/// does not depend on the rank count, and is the serial one (which does not depend on the
+/// summaries (without their borders: it asks the cutting ranks for the borders of the pieces it
+/// hands over only) and the seeds and joins them as above, on the surface in curve order: the
+/// result does not depend on the rank count, and is the serial one (which does not depend on the
 /// triangles' order). A failure on any rank throws on every rank. `report`, when given, says what
 /// this rank cut against. Collective.
 TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root_surface,
