@@ -138,21 +138,6 @@ bool walks(const Triangle& tri, std::int32_t a, std::int32_t b) {
   return false;
 }
 
-MeshIssue find_inconsistent_orientation(const TriangleMesh& mesh, const MeshTopology& topo) {
-  MeshIssue issue;
-  for (std::int32_t e = 0; e < topo.num_edges(); ++e) {
-    const auto around = topo.edge_triangles(e);
-    const auto [a, b] = topo.edges()[e];
-    if (around.size() == 2 && a != b &&
-        walks(mesh.triangles[around[0]], a, b) == walks(mesh.triangles[around[1]], a, b)) {
-      note(issue, [&](std::ostream& out) {
-        out << "edge " << a << "-" << b << " of triangles " << around[0] << " and " << around[1];
-      });
-    }
-  }
-  return issue;
-}
-
 template <class Keep> void keep_triangles(TriangleMesh& mesh, Keep&& keep) {
   std::size_t out = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -214,6 +199,21 @@ std::size_t drop_unreferenced(TriangleMesh& mesh) {
 }
 
 } // namespace
+
+MeshIssue inconsistent_orientation(const TriangleMesh& mesh, const MeshTopology& topo) {
+  MeshIssue issue;
+  for (std::int32_t e = 0; e < topo.num_edges(); ++e) {
+    const auto around = topo.edge_triangles(e);
+    const auto [a, b] = topo.edges()[e];
+    if (around.size() == 2 && a != b &&
+        walks(mesh.triangles[around[0]], a, b) == walks(mesh.triangles[around[1]], a, b)) {
+      note(issue, [&](std::ostream& out) {
+        out << "edge " << a << "-" << b << " of triangles " << around[0] << " and " << around[1];
+      });
+    }
+  }
+  return issue;
+}
 
 bool MeshReport::clean() const {
   return !non_finite_vertices && !out_of_range_indices && !degenerate_triangles &&
@@ -293,7 +293,7 @@ MeshReport validate(const TriangleMesh& mesh, double degenerate_area_tolerance) 
   for (const auto v : topo.non_manifold_vertices()) {
     note(report.non_manifold_vertices, [&](std::ostream& out) { out << "vertex " << v; });
   }
-  report.inconsistent_orientation = find_inconsistent_orientation(mesh, topo);
+  report.inconsistent_orientation = inconsistent_orientation(mesh, topo);
   report.boundary_edges = topo.boundary_edges().size();
   return report;
 }
@@ -341,7 +341,7 @@ void split_and_orient(TriangleMesh& mesh, RepairReport& report) {
   const MeshTopology topo(mesh);
   report.non_manifold_edges = topo.non_manifold_edges().size();
   report.non_manifold_vertices = topo.non_manifold_vertices().size();
-  report.inconsistent_orientation_edges = find_inconsistent_orientation(mesh, topo).count;
+  report.inconsistent_orientation_edges = inconsistent_orientation(mesh, topo).count;
   if (report.non_manifold_edges + report.non_manifold_vertices +
           report.inconsistent_orientation_edges ==
       0)

@@ -9,6 +9,8 @@
 
 namespace texsim::geom {
 
+class MeshTopology;
+
 /// How many elements have one kind of defect, and which came first.
 struct MeshIssue {
   std::size_t count = 0;
@@ -94,6 +96,10 @@ struct RepairReport {
 
 /// Checks a mesh for every defect listed in MeshReport. Never throws on a bad mesh. Serial.
 MeshReport validate(const TriangleMesh& mesh, double degenerate_area_tolerance = 1e-12);
+
+/// MeshReport::inconsistent_orientation of `mesh` from its topology, for a caller that has built
+/// it already (validate() builds its own). Serial.
+MeshIssue inconsistent_orientation(const TriangleMesh& mesh, const MeshTopology& topology);
 
 /// Repairs `mesh` in place, in this order: merge coincident vertices, drop degenerate triangles,
 /// drop duplicate triangles, drop unreferenced vertices, split non-manifold edges and vertices and

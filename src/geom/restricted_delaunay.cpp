@@ -246,6 +246,7 @@ void add_pieces(const TriangleMesh& surface, std::span<const VoronoiPiece> piece
 CsrAdjacency voronoi_neighbours(const DualInput& input, std::size_t num_seeds) {
   CsrAdjacency adjacency;
   adjacency.offsets.assign(num_seeds + 1, 0);
+  adjacency.indices.reserve(input.neighbour_pairs.size());
   for (const auto& [from, to] : input.neighbour_pairs) {
     ++adjacency.offsets[std::size_t(from) + 1];
     adjacency.indices.push_back(to);
@@ -582,6 +583,12 @@ TriangleMesh dual_mesh(const TriangleMesh& surface, std::span<const Vec3> seeds,
 #pragma omp parallel
   {
     std::vector<Sighting>& mine = per_thread[std::size_t(omp_get_thread_num())];
+    // Nearly every meeting gives one triangle (a fan of a crowded meeting more, a triangle with
+    // a repeated cell none): room for this thread's share and a little more, so the vector does
+    // not double past the sightings (at the doubling, both copies are held); the first thread's
+    // takes the others' afterwards.
+    const auto share = omp_get_thread_num() == 0 ? count : count / omp_get_num_threads() + 1;
+    mine.reserve(std::size_t(share + share / 32 + 16));
     std::vector<Triangle> found;
 #pragma omp for schedule(static)
     for (std::int64_t m = 0; m < count; ++m) {

@@ -89,7 +89,7 @@ std::string topology_defects(const geom::TriangleMesh& mesh, const SurfaceShape&
     add(log::cat("Euler characteristic ", topology.euler_characteristic(), " (the surface's is ",
                  input.euler_characteristic, ")"));
   if (defects.empty()) {
-    const auto orientation = geom::validate(mesh).inconsistent_orientation;
+    const auto orientation = geom::inconsistent_orientation(mesh, topology);
     if (orientation)
       add(log::cat(orientation.count, " edges with inconsistently oriented triangles"));
   }
