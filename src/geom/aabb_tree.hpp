@@ -15,7 +15,6 @@ struct ClosestPoint {
   double distance;       ///< from the query to `point`, model units
 };
 
-/// Where a line crosses a triangle: origin + t * direction.
 /// The nearest triangle as nearest_triangle() ranks them.
 struct NearestTriangle {
   Vec3 point;              ///< the query's projection onto the triangle (CGAL's)
@@ -23,6 +22,7 @@ struct NearestTriangle {
   double squared_distance; ///< from the query to `point`, as CGAL measures it
 };
 
+/// Where a line crosses a triangle: origin + t * direction.
 struct LineCrossing {
   std::int32_t triangle; ///< index into the mesh's triangles
   double t;
