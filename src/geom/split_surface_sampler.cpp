@@ -125,8 +125,11 @@ sample_split_surface(const par::Comm& comm, const TriangleMesh& share,
     return Query{std::int64_t(i), {points[i].x(), points[i].y(), points[i].z()}};
   };
 
-  // Round 1: each point to the rank whose box is nearest (the lowest such rank).
-  std::vector<std::int32_t> first_rank(points.size());
+  // Round 1: each point to the rank whose box is nearest (the lowest such rank; a point no box is
+  // nearer than infinity to, a non-finite one, to the first rank with triangles).
+  const auto holder =
+      std::int32_t(std::find_if_not(boxes.begin(), boxes.end(), is_empty) - boxes.begin());
+  std::vector<std::int32_t> first_rank(points.size(), holder);
   std::vector<std::vector<Query>> queries(std::size_t(comm.size));
   for (std::size_t i = 0; i < points.size(); ++i) {
     double nearest = std::numeric_limits<double>::infinity();
