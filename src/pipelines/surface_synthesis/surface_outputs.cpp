@@ -9,7 +9,6 @@
 #include "io/textured_obj_writer.hpp"
 #include "par/collective.hpp"
 #include "par/fetch_from_owners.hpp"
-#include "par/gather_to_root.hpp"
 
 #include <mpi.h>
 
@@ -72,14 +71,15 @@ SurfaceOutputs write_surface_outputs(const par::Comm& comm, const geom::Triangle
                                      const SurfaceSynthesisSettings& settings,
                                      const std::filesystem::path& output_dir) {
   SurfaceOutputs outputs;
-  // Rank 0 takes the finest level's colours for their histogram (the runs in rank order are the
-  // vertices in id order).
-  const auto finest_colours = par::gather_to_root(comm, std::span(colours.colours));
-  if (comm.rank == 0)
-    outputs.histogram_distance = img::histogram_distance(
-        {reinterpret_cast<const float*>(finest_colours.data()), 3 * finest_colours.size()},
-        {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()}, 3);
-  MPI_Bcast(&outputs.histogram_distance, 1, MPI_DOUBLE, 0, comm.raw);
+  // The finest level's colour histogram, each rank counting its run's (counts add up exactly).
+  img::ColourHistogram level_histogram(3), exemplar_histogram(3);
+  level_histogram.add(
+      {reinterpret_cast<const float*>(colours.colours.data()), 3 * colours.colours.size()});
+  MPI_Allreduce(MPI_IN_PLACE, level_histogram.counts().data(), int(level_histogram.counts().size()),
+                MPI_INT64_T, MPI_SUM, comm.raw);
+  exemplar_histogram.add(
+      {reinterpret_cast<const float*>(exemplar.data().data()), 3 * exemplar.size()});
+  outputs.histogram_distance = img::histogram_distance(level_histogram, exemplar_histogram);
 
   const std::vector<img::Rgb> on_surface = colours_on_surface(comm, surface, finest, colours);
   std::vector<double> xyz, colour_values, height;
