@@ -676,9 +676,9 @@ void reserve_for_parts(const par::Comm& comm, std::span<const std::byte> mine, D
 
 /// Appends a rank's serialized dual input, whose triangles start at `first_triangle`, to `input`:
 /// its triangle, piece and meeting-point indices are moved past the ones already there (its pieces
-/// without borders).
-/// Appending the ranks' parts in order gives the serial input once the neighbour pairs, sorted
-/// within each part, are merged (once at the end: merging at every rank would cost ranks x pairs).
+/// come without borders). Appending the ranks' parts in order gives the serial input once the
+/// neighbour pairs, sorted within each part, are merged (once at the end: merging at every rank
+/// would cost ranks x pairs).
 void append(std::span<const std::byte> bytes, std::int32_t first_triangle, DualInput& input) {
   std::size_t at = 0;
   const auto get = [&bytes, &at](auto& value) {
@@ -981,7 +981,9 @@ TriangleMesh restricted_delaunay(const par::Comm& comm, const TriangleMesh& root
     if (comm.is_root())
       owners.emplace(curve, all_on_root.positions.size(), input);
   });
-  fetch_orphan_borders(comm, owners ? owners->orphan_pieces() : std::vector<std::size_t>{},
+  fetch_orphan_borders(comm,
+                       owners ? std::span<const std::size_t>(owners->orphan_pieces())
+                              : std::span<const std::size_t>(),
                        piece_begin, kept, input);
   kept = KeptBorders();
   TriangleMesh mesh;

@@ -133,11 +133,14 @@ sample_split_surface(const par::Comm& comm, const TriangleMesh& share,
   std::vector<std::vector<Query>> queries(std::size_t(comm.size));
   for (std::size_t i = 0; i < points.size(); ++i) {
     double nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t r = 0; r < boxes.size(); ++r)
-      if (!is_empty(boxes[r]) && squared_distance_to(boxes[r], points[i]) < nearest) {
-        nearest = squared_distance_to(boxes[r], points[i]);
+    for (std::size_t r = 0; r < boxes.size(); ++r) {
+      const double squared =
+          is_empty(boxes[r]) ? nearest : squared_distance_to(boxes[r], points[i]);
+      if (squared < nearest) {
+        nearest = squared;
         first_rank[i] = std::int32_t(r);
       }
+    }
     queries[std::size_t(first_rank[i])].push_back(query_of(i));
   }
   std::vector<Answer> best(points.size());
